@@ -304,6 +304,14 @@ TEST_F(VerifyCli, BadInputExitsTwo) {
     EXPECT_EQ(r.status, 2) << r.err;
     EXPECT_NE(r.err.find("exactly one of"), std::string::npos) << r.err;
 
+    for (const char* points : {"100000000000", "-5"}) {  // std::bad_alloc; -5 had wrapped to 2^64 - 5
+        r = run(kernel + " --dim 3 --write-arguments huge.csv --points " + points);
+        EXPECT_EQ(r.status, 2) << r.err;
+        EXPECT_NE(r.err.find(std::string("--points: Value ") + points + " not in range 0 to 100000000"), std::string::npos)
+            << r.err;
+        EXPECT_FALSE(std::filesystem::exists(work / "huge.csv"));
+    }
+
     r = run(kernel + " --library ./libmine.so --symbol my_w");  // --dim missing: CLI11's error
     EXPECT_EQ(r.status, 2) << r.err;
     EXPECT_NE(r.err.find("--dim"), std::string::npos) << r.err;

@@ -392,6 +392,15 @@ TEST(Verify, BadInputNamesTheValue) {
     o.convention = "cpp";
     o.ulps = -1;
     EXPECT_NE(message([&] { v::samples("cubic-spline", 3, Quantity::value, o); }).find("-1"), std::string::npos);
+    // more uniform points than a verification takes: named, not std::bad_alloc from the allocation
+    o.ulps = 4;
+    o.uniform = std::size_t{100'000'000'000};
+    EXPECT_NE(message([&] { v::samples("cubic-spline", 3, Quantity::value, o); })
+                  .find("100000000000 uniform points: at most 100000000"),
+              std::string::npos);
+    EXPECT_NE(message([&] { v::compare("cubic-spline", 3, Quantity::value, s, std::vector<double>{1}, o); })
+                  .find("100000000000 uniform points"),
+              std::string::npos);
 }
 
 // The matcher, as a user writes it.

@@ -88,6 +88,10 @@ Setup setup(std::string_view spec, int dim, Quantity quantity, const Options& op
     for (int d : s.convention->dims) has_dim = has_dim || d == dim;
     if (!has_dim) fail("convention " + s.convention->target + " has no kernels in D = " + std::to_string(dim));
     if (!(options.ulps >= 0)) fail("the bound in ulps must be a number >= 0, not " + std::to_string(options.ulps));
+    // (each point an exact MPFR evaluation, ~10^5 a second: 10^8 take ~20 minutes; more ran out of memory unnamed)
+    if (options.uniform > max_uniform_points)
+        fail(std::to_string(options.uniform) + " uniform points: at most " + std::to_string(max_uniform_points) +
+             " (each is an exact evaluation)");
     s.reference = reference(s.spec, dim);
     const gen::ExactKernel& k = s.reference->kernel();
     if (!s.reference->has(s.id))

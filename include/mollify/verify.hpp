@@ -45,6 +45,10 @@ struct Sample {
     double r, h;
 };
 
+// The most uniform points a verification takes (Options::uniform; each is an
+// exact MPFR evaluation, ~10^5 a second).
+inline constexpr std::size_t max_uniform_points = 100'000'000;
+
 struct Options {
     // How (r, h) and the returned value relate to mollify's kernel
     // (generator/conventions.*): "cpp" or "mollify" (h = support radius H),
@@ -58,7 +62,7 @@ struct Options {
     // The uniform points' generator (a fixed algorithm: the same points on
     // every platform).
     std::uint64_t seed = 1;
-    // How many uniform points besides the hard ones.
+    // How many uniform points besides the hard ones (at most max_uniform_points).
     std::size_t uniform = 10000;
 };
 

@@ -132,7 +132,9 @@ CLI::App* add_verify_command(CLI::App& app, VerifyOptions& o) {
         ->capture_default_str();
     v->add_option("--ulps", o.ulps, "the bound: largest error allowed in ulps")->capture_default_str();
     v->add_option("--seed", o.seed, "seed of the uniform points")->capture_default_str();
-    v->add_option("--points", o.points, "uniform points besides the hard ones")->capture_default_str();
+    v->add_option("--points", o.points, "uniform points besides the hard ones")
+        ->check(CLI::Range(std::size_t{0}, verify::max_uniform_points))  // (else CLI11 wraps -5 to 2^64 - 5)
+        ->capture_default_str();
     v->add_option("--timeout", o.timeout, "seconds one evaluation may take before it counts as hung")
         ->capture_default_str();
     return v;
