@@ -91,7 +91,7 @@ int run_emit(const std::string& out, const std::vector<std::string>& only, const
 
 int run_value(const std::string& spec_text, int dim, const std::string& r_text, const std::string& name, int digits,
               bool exact) {
-    const Q r = parse_rational(r_text, "--r");
+    const Q r = parse_rational_or_hex_float(r_text, "--r");
     if (r < 0) fail("--r " + r_text + " must be >= 0 (a radial distance)");
     if (digits < 1 || digits > 100000) fail("--digits " + std::to_string(digits) + " is outside 1..100000");
     const ExactKernel k = make_kernel(parse_spec(spec_text), dim);
@@ -207,7 +207,7 @@ int main(int argc, char** argv) {
     bool exact = false;
     value->add_option("spec", spec_text, "kernel spec, e.g. wendland:k=2,l=1")->required();
     value->add_option("--dim", dim, "dimension 1..3")->required();
-    value->add_option("--r", r_text, "radius r/h: p/q or a decimal")->required();
+    value->add_option("--r", r_text, "radius r/h: p/q, a decimal, or a hex-float (a double exactly)")->required();
     value->add_option("--quantity", name, query_names())->capture_default_str();
     value->add_option("--digits", digits, "significant digits")->capture_default_str();
     value->add_flag("--exact", exact, "also print the exact closed form");

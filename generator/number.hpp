@@ -17,6 +17,13 @@ using Z = boost::multiprecision::mpz_int;
 // Parses "3", "-3/4", "0.125", "1e-3", "2.5E+2". Throws Error naming `what`.
 Q parse_rational(std::string_view text, std::string_view what);
 
+// The same, or a finite hex-float ("0x1.8p-2", "-0x1p-1074"): a double's
+// exact value, for an argument that is a double (mollify-gen value --r: a
+// point where a double kernel was evaluated; "0.32500000000000001", its
+// shortest decimal, is another rational). Kernel specs keep parse_rational's
+// grammar.
+Q parse_rational_or_hex_float(std::string_view text, std::string_view what);
+
 // Always "p/q" (q = 1 included), the catalogue's canonical form.
 std::string pq(const Q& q);
 

@@ -106,6 +106,16 @@ TEST(Numbers, RationalAndDecimalInputs) {
     EXPECT_EQ(parse_rational("-007.50", "x"), Q(-15, 2));
     for (const char* bad : {"", "1/", "/2", "1.2.3", "e5", "1e", "--1", "0x10", "1 /2", "nan", "inf"})
         EXPECT_THROW(parse_rational(bad, "x"), Error) << bad;
+    // mollify-gen value --r: a double exactly, where its shortest decimal is another rational
+    EXPECT_EQ(parse_rational_or_hex_float("0x1.8p-2", "x"), Q(3, 8));
+    EXPECT_EQ(parse_rational_or_hex_float("-0x1p+0", "x"), Q(-1));
+    EXPECT_EQ(parse_rational_or_hex_float("0x1p-1074", "x"), mollify::gen::pow(Q(2), -1074));
+    EXPECT_EQ(parse_rational_or_hex_float("0x1.4cccccccccccdp-2", "x"),
+              Q(Z("5854679515581645"), Z("18014398509481984")));  // the double 0.325, not 13/40
+    EXPECT_NE(parse_rational_or_hex_float("0x1.4cccccccccccdp-2", "x"), parse_rational_or_hex_float("0.325", "x"));
+    EXPECT_EQ(parse_rational_or_hex_float("3/4", "x"), Q(3, 4));
+    for (const char* bad : {"0x", "0x1.8", "0x1p", "0xzz", "0x1p99999", "0x1p-2junk", "-0x"})
+        EXPECT_THROW(parse_rational_or_hex_float(bad, "x"), Error) << bad;
 }
 
 // Random junk built from the grammar's own characters: every input either

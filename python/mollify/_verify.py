@@ -9,11 +9,22 @@ __all__ = ["verify", "samples", "compare"]
 QUANTITIES = ("value", "dr", "potential", "force", "grad_over_r")
 
 
+def _counts(seed, uniform):
+    """seed and uniform as the library's unsigned integers, or mollify.Error
+    naming the bad one (pybind11 would refuse -1 with a TypeError listing the
+    signature; the library itself names a count above its limit)."""
+    for name, v, top in (("seed", seed, 2**64), ("uniform", uniform, 2**64)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 0 <= v < top:
+            raise _core.Error(f"{name} = {v!r}: an integer >= 0 is needed")
+    return int(seed), int(uniform)
+
+
 def samples(spec, dim, quantity="value", convention="cpp", ulps=4, seed=1, uniform=10000):
     """The arguments (r, h) to evaluate a kernel at (two float64 arrays): the
     hard points (0 and tiny r, the breakpoints, near and at the support edge,
     tiny and huge h) and `uniform` seeded uniform points, in the convention's
     units (mollify::verify::samples)."""
+    seed, uniform = _counts(seed, uniform)
     return _core.verify_samples(spec, dim, quantity, convention, ulps, seed, uniform)
 
 
@@ -22,6 +33,7 @@ def compare(spec, dim, r, h, values, quantity="value", convention="cpp", ulps=4,
     Report. Any points may be given; the report counts the hard points among
     them (.hard_points_compared of .hard_points; .complete when all are), and
     a verdict on fewer than all holds for the given points only."""
+    seed, uniform = _counts(seed, uniform)
     return _core.verify_compare(spec, dim, quantity, r, h, values, convention, ulps, seed, uniform)
 
 

@@ -123,3 +123,12 @@ def test_errors_name_the_bad_value():
         mollify.verify(k.value, "wendland:k=2", 3, convention="nonesuch")
     with pytest.raises(mollify.Error, match="k=99"):
         mollify.verify(k.value, "wendland:k=99", 3)
+    # counts: named (pybind11 alone had raised a TypeError listing the signature)
+    with pytest.raises(mollify.Error, match=r"uniform = -1: an integer >= 0"):
+        mollify.samples("wendland:k=2", 3, uniform=-1)
+    with pytest.raises(mollify.Error, match=r"uniform = 2.5"):
+        mollify.verify(k.value, "wendland:k=2", 3, uniform=2.5)
+    with pytest.raises(mollify.Error, match=r"seed = -3"):
+        mollify.compare("wendland:k=2", 3, [0.5], [1.0], [k.value(0.5, 1.0)], seed=-3)
+    with pytest.raises(mollify.Error, match=r"100000000000 uniform points: at most 100000000"):
+        mollify.samples("wendland:k=2", 3, uniform=10**11)
