@@ -335,3 +335,22 @@ TEST(MollifyRun, KernelsOutsideTheCatalogue) {
     }
     EXPECT_EQ(checked, 8);
 }
+
+// A kernel-values scene with an empty list is refused naming the key (it had
+// run and written empty tables), and nothing is written.
+TEST(MollifyRun, KernelValuesEmptyListsAreRefused) {
+    Workdir w;
+    const std::string head = "[scene]\nname = \"k\"\nexperiment = \"kernel-values\"\n[kernel_values]\ndim = 3\nh = 1.0\n";
+    const std::pair<std::string, std::string> cases[] = {
+        {"kernels = []\nradii = [0.5]\n", "kernel_values.kernels = []: no kernel"},
+        {"kernels = [\"wendland:k=2\"]\nradii = []\n", "kernel_values.radii = []: no radius"},
+        {"kernels = [\"wendland:k=2\"]\nradii = [0.5]\nquantities = []\n", "kernel_values.quantities = []: no quantity"},
+    };
+    for (const auto& [body, named] : cases) {
+        w.file("scenes/k.toml", head + body);
+        const Outcome r = w.run("run scenes/k.toml");
+        EXPECT_EQ(r.status, 1) << body;
+        EXPECT_NE(r.err.find(named), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(w.dir / "out")) << body;
+    }
+}

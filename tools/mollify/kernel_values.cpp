@@ -42,6 +42,7 @@ void run_kernel_values(const Scene& scene, Output& out) {
     if (dim < 1 || dim > 3) scene.reject("kernel_values.dim", std::to_string(dim) + " is not 1, 2 or 3");
     const double h = scene.positive("kernel_values.h");
     const std::vector<double> radii = scene.numbers("kernel_values.radii");
+    if (radii.empty()) scene.reject("kernel_values.radii", "no radius");
     for (double r : radii)
         if (!(r >= 0) || !std::isfinite(r)) scene.reject("kernel_values.radii", format(r) + " is not a finite radius >= 0");
     std::vector<QuantityId> quantities;
@@ -53,11 +54,14 @@ void run_kernel_values(const Scene& scene, Output& out) {
             scene.reject("kernel_values.quantities", e.what());
         }
     }
+    if (quantities.empty()) scene.reject("kernel_values.quantities", "no quantity");
     const Precision precision = scene_precision(scene, "kernel_values.precision");
     // Every kernel resolved (and generated where needed) before any value:
     // a bad spec fails the scene with its name and nothing written.
     std::vector<Kernel> kernels;
-    for (const std::string& spec : scene.strings("kernel_values.kernels")) {
+    const std::vector<std::string> specs = scene.strings("kernel_values.kernels");
+    if (specs.empty()) scene.reject("kernel_values.kernels", "no kernel");
+    for (const std::string& spec : specs) {
         try {
             kernels.push_back(exact::kernel(spec, static_cast<int>(dim), precision));
         } catch (const Error& e) {
