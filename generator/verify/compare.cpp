@@ -45,15 +45,15 @@ Compared judge(const detail::Setup& s, std::size_t i, Sample a, double got) {
 }
 
 // How many of the hard points are among the samples, bit for bit (each
-// distinct hard point once).
+// distinct hard point once): the few hundred hard points in a set, the
+// samples (up to max_uniform_points more) looked up in it, not stored.
 std::pair<std::size_t, std::size_t> hard_points_among(std::span<const Sample> samples, const std::vector<Sample>& hard) {
     auto bits = [](const Sample& a) { return std::pair{std::bit_cast<std::uint64_t>(a.r), std::bit_cast<std::uint64_t>(a.h)}; };
-    std::set<std::pair<std::uint64_t, std::uint64_t>> given, distinct;
-    for (const Sample& a : samples) given.insert(bits(a));
-    std::size_t found = 0;
-    for (const Sample& a : hard)
-        if (distinct.insert(bits(a)).second) found += given.count(bits(a));
-    return {distinct.size(), found};
+    std::set<std::pair<std::uint64_t, std::uint64_t>> distinct, found;
+    for (const Sample& a : hard) distinct.insert(bits(a));
+    for (const Sample& a : samples)
+        if (distinct.count(bits(a))) found.insert(bits(a));
+    return {distinct.size(), found.size()};
 }
 
 }  // namespace

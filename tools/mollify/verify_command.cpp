@@ -14,9 +14,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
-#include <cstdint>
 #include <iostream>
-#include <utility>
 
 namespace mollify::app {
 
