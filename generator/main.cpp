@@ -93,7 +93,8 @@ int run_value(const std::string& spec_text, int dim, const std::string& r_text, 
               bool exact) {
     const Q r = parse_rational_or_hex_float(r_text, "--r");
     if (r < 0) fail("--r " + r_text + " must be >= 0 (a radial distance)");
-    if (digits < 1 || digits > 100000) fail("--digits " + std::to_string(digits) + " is outside 1..100000");
+    if (digits < 1 || digits > max_decimal_digits)
+        fail("--digits " + std::to_string(digits) + " is outside 1.." + std::to_string(max_decimal_digits));
     const ExactKernel k = make_kernel(parse_spec(spec_text), dim);
     const std::string where = name + " of " + spec_string(k.spec) + " in D = " + std::to_string(dim);
     const ExactValue v = exact_value(query(k, name), r, Q(1), Scaling{}, where);

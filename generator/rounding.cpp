@@ -337,7 +337,11 @@ std::string decimal(const Q& q, int digits) {
 }
 
 std::string decimal(const Evaluator& f, int digits) {
-    for (unsigned bits = start_bits + static_cast<unsigned>(digits) * 4; bits <= max_bits; bits *= 2) {
+    // 4 bits a digit (log2 10 = 3.32 and a margin); the loop may double it
+    // three times, past max_bits where the digits ask for more (100,000
+    // digits start at ~400,000 bits).
+    const unsigned first = start_bits + static_cast<unsigned>(digits) * 4;
+    for (unsigned bits = first; bits <= std::max(max_bits, 8 * first); bits *= 2) {
         const auto [lo, hi] = enclosure(f, bits);
         const std::string a = decimal(lo, digits), b = decimal(hi, digits);
         if (a == b) return a;

@@ -55,7 +55,8 @@ void bind_exact(py::module_& m) {
             return v.exact ? gen::round_to_double(*v.exact) : gen::round_to_double(v.evaluate);
         }, "the value correctly rounded to double")
         .def("decimal", [](const gen::ExactValue& v, int digits) {
-            if (digits < 1 || digits > 100000) fail("digits " + std::to_string(digits) + " is outside 1..100000");
+            if (digits < 1 || digits > gen::max_decimal_digits)
+                fail("digits " + std::to_string(digits) + " is outside 1.." + std::to_string(gen::max_decimal_digits));
             return v.exact ? gen::decimal(*v.exact, digits) : gen::decimal(v.evaluate, digits);
         }, py::arg("digits"), "the value to that many significant digits, correctly rounded")
         .def("__repr__", [](const gen::ExactValue& v) {

@@ -45,6 +45,14 @@ def test_closed_forms_beyond_rationals():
     assert not v.is_exact and "sqrt(8/9)" in v.closed_form
     k = mollify.kernel("wendland-missing:k=1,l=1", 3)
     assert ulps(k.value(1 / 3, 1.0), float(v)) <= 4
+    # Every digits it accepts is delivered (past ~16,000 it had failed as "internal"); 0 and
+    # 100001 are named.
+    long = v.decimal(100000)
+    assert len(long.split("e")[0].lstrip("-").replace(".", "")) == 100000
+    assert long[:30] == v.decimal(40)[:30] and long.split("e")[1] == v.decimal(40).split("e")[1]
+    for bad in (0, 100001):
+        with pytest.raises(mollify.Error, match=f"digits {bad} is outside 1..100000"):
+            v.decimal(bad)
 
 
 def test_the_same_numbers_as_mollify_gen_value():
