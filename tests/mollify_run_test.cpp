@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -94,6 +95,15 @@ TEST(MollifyRun, List) {
     for (const char* part : {"franz", "belley", "sph-periodic", "scenes/a.toml", "A demo", "scenes/b.toml", "invalid"})
         EXPECT_NE(r.out.find(part), std::string::npos) << "'" << part << "' not in:\n" << r.out;
     EXPECT_EQ(r.out.find("notes.txt"), std::string::npos);
+    // Each experiment's name stands apart from its summary ("poisson-periodic" ran into it).
+    std::istringstream experiments(r.out.substr(0, r.out.find("scenes in")));
+    int listed = 0;
+    for (std::string line; std::getline(experiments, line);)
+        if (line != "experiments:") {
+            ++listed;
+            EXPECT_TRUE(std::regex_match(line, std::regex("  [a-z-]+  +[A-Z0-9a-z].*"))) << "'" << line << "'";
+        }
+    EXPECT_GE(listed, 7);
     EXPECT_EQ(w.run("list nowhere").status, 1);
 }
 

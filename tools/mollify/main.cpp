@@ -58,8 +58,10 @@ fs::path default_scene_dir() {
 
 int run_list(const std::string& dir_option) {
     std::cout << "experiments:\n";
+    std::size_t width = 0;  // the longest name and two spaces: "poisson-periodic" ran into its summary
+    for (const Experiment& e : experiments()) width = std::max(width, e.name.size() + 2);
     for (const Experiment& e : experiments())
-        std::cout << "  " << std::left << std::setw(14) << e.name << e.summary << "\n";
+        std::cout << "  " << std::left << std::setw(static_cast<int>(width)) << e.name << e.summary << "\n";
     const fs::path dir = dir_option.empty() ? default_scene_dir() : fs::path(dir_option);
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) mollify::fail("scene folder " + dir.string() + " does not exist");
