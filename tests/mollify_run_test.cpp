@@ -231,6 +231,13 @@ TEST(MollifyRun, VortexSheet) {
     r = w.run("run scenes/bad_support.toml");
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("vortex_sheet.support = 0.7"), std::string::npos) << r.err;
+    // A time of more steps than a scene may run (1e30 / 0.05 had overflowed the step count).
+    w.file("scenes/endless.toml", "[scene]\nname = \"vs\"\nexperiment = \"vortex-sheet\"\n[vortex_sheet]\nparticles = 24\n"
+                                  "times = [0.1, 1e30]\nalgebraic_delta = 0.25\ndt = 0.05\n");
+    r = w.run("run scenes/endless.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("vortex_sheet.times = [0.1, 1e+30]: 1e+30 in steps dt = 0.05 takes 2e+31 steps, more than the 10^7"),
+              std::string::npos) << r.err;
     w.file("scenes/bad_steps.toml", head + "algebraic_delta = 0.25\ndt = 0.03\n");
     r = w.run("run scenes/bad_steps.toml");
     EXPECT_EQ(r.status, 1);
@@ -267,6 +274,34 @@ TEST(MollifyRun, VortexSheet) {
     EXPECT_EQ(r.status, 0) << r.err;
     for (const char* f : {"sheet_0.csv", "sheet_1.csv", "sheet_0.png", "sheet_1.png", "sheets_last.png", "summary.md"})
         EXPECT_TRUE(fs::exists(w.dir / "out" / "vs" / f)) << f;
+}
+
+// The sph-periodic experiment: a CFL number outside (0, 1] and runs of more
+// steps than a scene may take (a far snapshot; an amplitude whose sound
+// speed makes the steps ~1e-157: it had run for ever) exit 1 naming the
+// value before anything is written; a small lattice runs.
+TEST(MollifyRun, SphPeriodic) {
+    Workdir w;
+    const std::string head = "[scene]\nname = \"sp\"\nexperiment = \"sph-periodic\"\n[sph_periodic]\ndim = 2\n"
+                             "kernel = \"wendland:k=2\"\nparticles_per_side = 12\neps_over_h = 3.0\nwidth = 0.1\n"
+                             "precision = \"fast\"\n";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"cfl = nan\namplitude = 0.5\nsnapshots = [0.0, 0.01]\n", "sph_periodic.cfl = nan: nan is not in (0, 1]"},
+        {"cfl = 1.5\namplitude = 0.5\nsnapshots = [0.0, 0.01]\n", "sph_periodic.cfl = 1.5: 1.5 is not in (0, 1]"},
+        {"cfl = 0.1\namplitude = 0.5\nsnapshots = [0.0, 1e9]\n", "more than the 10^7 a scene may run"},
+        {"cfl = 0.1\namplitude = 1e308\nsnapshots = [0.0, 0.01]\n", "(amplitude 1e+308, CFL 0.1) takes "},
+    };
+    for (const auto& [body, message] : cases) {
+        w.file("scenes/bad.toml", head + body);
+        const Outcome r = w.run("run scenes/bad.toml");
+        EXPECT_EQ(r.status, 1) << body;
+        EXPECT_NE(r.err.find(message), std::string::npos) << body << r.err;
+        EXPECT_EQ(w.entries(), std::vector<std::string>{"scenes"}) << body;
+    }
+    w.file("scenes/good.toml", head + "cfl = 0.1\namplitude = 0.5\nsnapshots = [0.0, 0.01]\n");
+    const Outcome r = w.run("run scenes/good.toml");
+    EXPECT_EQ(r.status, 0) << r.err;
+    for (const char* f : {"history.csv", "snapshot_1.csv", "summary.md"}) EXPECT_TRUE(fs::exists(w.dir / "out" / "sp" / f)) << f;
 }
 
 // The poisson-periodic experiment: bad parameters exit 1 naming the value

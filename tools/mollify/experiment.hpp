@@ -11,6 +11,7 @@
 #include <mollify/precision.hpp>
 
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace mollify::app {
@@ -29,6 +30,18 @@ inline Precision scene_precision(const Scene& scene, std::string_view key) {
     } catch (const Error& e) {
         scene.reject(key, e.what());
     }
+}
+
+// The most time steps a scene may ask for: far beyond any scene's hours of
+// work (the vortex sheet's scenes take 400 steps), so an
+// absurd time, dt or amplitude is refused naming it instead of running for
+// ever (or, for the vortex sheet, overflowing a step count).
+inline constexpr double max_time_steps = 1e7;
+
+// Refuses `key` when reaching its time takes more than max_time_steps steps.
+inline void check_step_count(const Scene& scene, std::string_view key, double steps, const std::string& why) {
+    if (!(steps <= max_time_steps))
+        scene.reject(key, why + " takes " + format(steps, 3) + " steps, more than the 10^7 a scene may run");
 }
 
 // All experiments, in the order `mollify` lists them.

@@ -70,6 +70,7 @@ void run(const Scene& scene, Output& out) {
     std::sort(times.begin(), times.end());
     if (times.empty() || !(times.front() >= 0)) scene.reject("sph_periodic.snapshots", "needs times >= 0");
     const double cfl = scene.number("sph_periodic.cfl", 0.1);
+    if (!(cfl > 0 && cfl <= 1)) scene.reject("sph_periodic.cfl", format(cfl, 6) + " is not in (0, 1]");
     const sph::Integrator method = sph::integrator(scene.string("sph_periodic.integrator", "leapfrog"));
 
     const Precision precision = scene_precision(scene, "sph_periodic.precision");
@@ -81,6 +82,11 @@ void run(const Scene& scene, Output& out) {
     std::vector<double> rho;
     system.density(s.state.x, rho);
     const double dt_max = sph::cfl_step<D>(s.state, rho, eps, cfl);
+    // At the first step's size: a huge amplitude (a sound speed to match) or
+    // a far snapshot would otherwise run for ever.
+    check_step_count(scene, "sph_periodic.snapshots", times.back() / dt_max,
+                     "t = " + format(times.back()) + " in steps dt <= " + format(dt_max, 3) + " (amplitude " +
+                         format(amplitude, 3) + ", CFL " + format(cfl, 2) + ")");
 
     Table history{{"t", "kinetic", "potential", "energy", "relative_drift", "momentum_x", "min_rho", "max_rho"}, {}};
     const auto start = std::chrono::steady_clock::now();

@@ -120,6 +120,7 @@ void run_vortex_sheet(const Scene& scene, Output& out) {
         if (!(times[k] > prev) || !std::isfinite(times[k]))
             scene.reject("vortex_sheet.times", format(times[k]) + " is not after " + format(prev) + " (times increase from 0)");
         const double steps = (times[k] - prev) / dt;
+        check_step_count(scene, "vortex_sheet.times", times[k] / dt, format(times[k]) + " in steps dt = " + format(dt));
         if (std::abs(steps - std::round(steps)) > 1e-9 * std::max(1.0, steps))
             scene.reject("vortex_sheet.times", format(times[k]) + " is not a whole number of steps dt = " + format(dt) + " after " + format(prev));
     }
