@@ -164,7 +164,24 @@ TEST(MollifyRun, PoissonFree) {
     w.file("scenes/bad_theta.toml", head + "delta = 0.1\nthetas = [1.0]\n");
     r = w.run("run scenes/bad_theta.toml");
     EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.err.find("theta = 1 "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("poisson_free.thetas = [1]: opening parameter theta = 1 "), std::string::npos) << r.err;
+    // Integers are checked before they narrow to int (orders = [4294967300] had run as p = 4, labelled
+    // 4294967300), and the library's checks name the scene's key.
+    const std::string good_head = "[scene]\nname = \"pf\"\nexperiment = \"poisson-free\"\n[poisson_free]\nparticles = 300\n"
+                                  "kernels = [\"mollifier:M=4\"]\n";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"orders = [4294967300]\ndelta = 0.1\nthetas = [0.5]\n", "poisson_free.orders = [4294967300]: 4294967300 is outside 0..20"},
+        {"orders = [2]\nleaf_size = 4294967696\ndelta = 0.1\nthetas = [0.5]\n", "poisson_free.leaf_size = 4294967696: 4294967696 is outside"},
+        {"orders = [2]\nseed = -1\ndelta = 0.1\nthetas = [0.5]\n", "poisson_free.seed = -1: -1 is negative"},
+        {"orders = [2]\ntarget_error = 2\ndelta = 0.1\nthetas = [0.5]\n", "poisson_free.target_error = 2: target relative error 2"},
+        {"orders = [2]\ndelta = 1e300\nthetas = [0.5]\n", "poisson_free.delta = 1e+300: smoothing length h = 1e+300 is out of range"},
+    };
+    for (const auto& [body, message] : cases) {
+        w.file("scenes/bad.toml", good_head + body);
+        r = w.run("run scenes/bad.toml");
+        EXPECT_EQ(r.status, 1) << body;
+        EXPECT_NE(r.err.find(message), std::string::npos) << body << r.err;
+    }
     EXPECT_EQ(w.entries(), std::vector<std::string>{"scenes"});
     w.file("scenes/good.toml", head + "delta = 0.1\nthetas = [0.5]\n");
     r = w.run("run scenes/good.toml");

@@ -22,14 +22,21 @@ struct Experiment {
     void (*run)(const Scene&, Output&);
 };
 
-// The Precision a scene names under `key` ("accurate", the default, or
-// "fast"); an unknown name is an Error naming the file, line and key.
-inline Precision scene_precision(const Scene& scene, std::string_view key) {
+// f(), whose Error (a library's check of a value the scene gave) is
+// rethrown naming the scene's file, line and key.
+template <class F>
+decltype(auto) checked(const Scene& scene, std::string_view key, F&& f) {
     try {
-        return precision(scene.string(key, "accurate"));
+        return f();
     } catch (const Error& e) {
         scene.reject(key, e.what());
     }
+}
+
+// The Precision a scene names under `key` ("accurate", the default, or
+// "fast"); an unknown name is an Error naming the file, line and key.
+inline Precision scene_precision(const Scene& scene, std::string_view key) {
+    return checked(scene, key, [&] { return precision(scene.string(key, "accurate")); });
 }
 
 // The most time steps a scene may ask for: far beyond any scene's hours of

@@ -16,6 +16,7 @@
 #include <mollify/exact.hpp>
 #include <mollify/kernel.hpp>
 #include <mollify/poisson.hpp>
+#include <mollify/smoothing.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -68,11 +69,19 @@ void run(const Scene& scene, Output& out) {
     const std::vector<long> orders = scene.integers("poisson_free.orders");
     if (thetas.empty() || orders.empty()) scene.reject("poisson_free.thetas", "thetas and orders need at least one value each");
     const long leaf = scene.integer("poisson_free.leaf_size", 0);  // 0: the treecode's default (TreeOptions::leaf_for)
+    // Checked as long before they narrow to int (4294967300 had run as p = 4).
+    if (leaf < 0 || leaf > n) scene.reject("poisson_free.leaf_size", std::to_string(leaf) + " is outside 0..particles (0: the default)");
+    for (const long p : orders)
+        if (p < 0 || p > poisson::max_order) scene.reject("poisson_free.orders", std::to_string(p) + " is outside 0.." + std::to_string(poisson::max_order));
     const double target = scene.number("poisson_free.target_error", 1e-6);
-    const auto seed = static_cast<unsigned long>(scene.integer("poisson_free.seed", 1));
+    const long seed = scene.integer("poisson_free.seed", 1);
+    if (seed < 0) scene.reject("poisson_free.seed", std::to_string(seed) + " is negative");
     // Everything the grid needs is checked before the first (long) run.
-    for (const double t : thetas) poisson::TreeOptions{.theta = t, .order = 0, .leaf_size = static_cast<int>(leaf)}.check();
-    for (const long p : orders) poisson::check_order(static_cast<int>(p));
+    for (const double t : thetas) checked(scene, "poisson_free.thetas", [&] {
+        poisson::TreeOptions{.theta = t, .order = 0, .leaf_size = static_cast<int>(leaf)}.check();
+    });
+    checked(scene, "poisson_free.target_error", [&] { poisson::for_relative_error(target, D); });
+    checked(scene, "poisson_free.delta", [&] { (void)Smoothing(delta, D); });
     std::vector<Kernel> kernels;
     for (const std::string& s : specs) {
         kernels.push_back(mollify::exact::kernel(s, D));
@@ -80,7 +89,7 @@ void run(const Scene& scene, Output& out) {
     }
     const poisson::TreeOptions knob = poisson::for_relative_error(target, D);
 
-    const Cloud<D> cloud = uniform<D>(n, delta, seed);
+    const Cloud<D> cloud = uniform<D>(n, delta, static_cast<unsigned long>(seed));
     const auto sources = cloud.sources();
     Table all{{"kernel", "method", "theta", "p", "seconds", "phi_rel_l2", "E_rel_l2", "E_rel_max", "speedup"}, {}};
     std::ostringstream gp;
