@@ -335,6 +335,16 @@ TEST(MollifyRun, PoissonPeriodic) {
     r = w.run("run scenes/bad_grid.toml");
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("1 points per axis"), std::string::npos) << r.err;
+    // The library's checks and the support against the grid, named with the scene's keys.
+    w.file("scenes/big_sigma.toml", head + "bvp_sigma = 1e300\ngrids = [8]\n");
+    r = w.run("run scenes/big_sigma.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("poisson_periodic.bvp_sigma = 1e+300: periodic BVP: sigma = 1e+300 is not in (0, 700]"), std::string::npos) << r.err;
+    w.file("scenes/wide.toml", head + "bvp_sigma = 2.5\ngrids = [8, 16]\ndelta_cells = 4.5\n");
+    r = w.run("run scenes/wide.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("poisson_periodic.delta_cells = 4.5: 4.5 grid spacings of the 8-point grid are not below half the box"),
+              std::string::npos) << r.err;
     EXPECT_EQ(w.entries(), std::vector<std::string>{"scenes"});
     w.file("scenes/good.toml", head + "bvp_sigma = 2.5\ngrids = [8, 16]\n");
     r = w.run("run scenes/good.toml");
@@ -415,4 +425,11 @@ TEST(MollifyRun, KernelValuesEmptyListsAreRefused) {
         EXPECT_NE(r.err.find(named), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(w.dir / "out")) << body;
     }
+    // An h the runtime refuses, named with the scene's key before any value (it had failed without them).
+    w.file("scenes/k.toml", "[scene]\nname = \"k\"\nexperiment = \"kernel-values\"\n[kernel_values]\ndim = 3\nh = 1e300\n"
+                            "kernels = [\"wendland:k=2\"]\nradii = [0.5]\n");
+    const Outcome r = w.run("run scenes/k.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("kernel_values.h = 1e+300: smoothing length h = 1e+300 is out of range in D = 3"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(w.dir / "out"));
 }

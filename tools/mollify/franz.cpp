@@ -58,11 +58,7 @@ struct Settings {
 
 // The canonical spelling of a spec the scene gives under `key`.
 std::string canonical(const Scene& scene, std::string_view key, const std::string& spec) {
-    try {
-        return spec_string(parse_spec(spec));
-    } catch (const Error& e) {
-        scene.reject(key, e.what());
-    }
+    return checked(scene, key, [&] { return spec_string(parse_spec(spec)); });
 }
 
 // The scene's kernels named under `key` (any spelling), as indices into

@@ -10,6 +10,7 @@
 
 #include <mollify/dynamic_kernel.hpp>
 #include <mollify/exact.hpp>
+#include <mollify/smoothing.hpp>
 #include <mollify/tables/catalogue.hpp>
 
 #include <cmath>
@@ -41,6 +42,7 @@ void run_kernel_values(const Scene& scene, Output& out) {
     const long dim = scene.integer("kernel_values.dim");
     if (dim < 1 || dim > 3) scene.reject("kernel_values.dim", std::to_string(dim) + " is not 1, 2 or 3");
     const double h = scene.positive("kernel_values.h");
+    checked(scene, "kernel_values.h", [&] { (void)Smoothing(h, static_cast<int>(dim)); });
     const std::vector<double> radii = scene.numbers("kernel_values.radii");
     if (radii.empty()) scene.reject("kernel_values.radii", "no radius");
     for (double r : radii)
@@ -48,11 +50,7 @@ void run_kernel_values(const Scene& scene, Output& out) {
     std::vector<QuantityId> quantities;
     for (const std::string& name : scene.has("kernel_values.quantities") ? scene.strings("kernel_values.quantities")
                                                                             : std::vector<std::string>{"value"}) {
-        try {
-            quantities.push_back(quantity(name));
-        } catch (const Error& e) {
-            scene.reject("kernel_values.quantities", e.what());
-        }
+        quantities.push_back(checked(scene, "kernel_values.quantities", [&] { return quantity(name); }));
     }
     if (quantities.empty()) scene.reject("kernel_values.quantities", "no quantity");
     const Precision precision = scene_precision(scene, "kernel_values.precision");
@@ -62,11 +60,7 @@ void run_kernel_values(const Scene& scene, Output& out) {
     const std::vector<std::string> specs = scene.strings("kernel_values.kernels");
     if (specs.empty()) scene.reject("kernel_values.kernels", "no kernel");
     for (const std::string& spec : specs) {
-        try {
-            kernels.push_back(exact::kernel(spec, static_cast<int>(dim), precision));
-        } catch (const Error& e) {
-            scene.reject("kernel_values.kernels", e.what());
-        }
+        kernels.push_back(checked(scene, "kernel_values.kernels", [&] { return exact::kernel(spec, static_cast<int>(dim), precision); }));
         for (QuantityId q : quantities)
             if (table::is_potential(q) && !kernels.back().has_potential())
                 scene.reject("kernel_values.quantities", "kernel " + spec + " has no " + quantity_names[static_cast<int>(q)]);

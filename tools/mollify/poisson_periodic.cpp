@@ -42,7 +42,8 @@ void bvp(const Scene& scene, Output& out, std::string& md) {
         std::array<double, 3> e{};
         int i = 0;
         for (auto m : {poisson::BvpMethod::finite_difference, poisson::BvpMethod::pseudospectral, poisson::BvpMethod::green}) {
-            const std::vector<double> phi = poisson::solve_periodic_bvp(f, sigma, m);
+            const std::vector<double> phi =
+                checked(scene, "poisson_periodic.bvp_sigma", [&] { return poisson::solve_periodic_bvp(f, sigma, m); });
             for (std::size_t j = 0; j < f.size(); ++j) e[i] = std::max(e[i], std::abs(phi[j] - exact[j]));
             ++i;
         }
@@ -116,6 +117,10 @@ void pic(const Scene& scene, Output& out, std::string& md) {
     const std::vector<std::string> specs = scene.strings("poisson_periodic.kernels");
     const double cells = scene.number("poisson_periodic.delta_cells", 3.0);
     if (!(cells >= 1) || !(cells < 16)) scene.reject("poisson_periodic.delta_cells", format(cells) + " is outside [1, 16) grid spacings");
+    for (long n : grids)  // the kernel's support delta = cells / n must stay below half the unit box
+        if (!(2 * cells < static_cast<double>(n)))
+            scene.reject("poisson_periodic.delta_cells", format(cells) + " grid spacings of the " + std::to_string(n) +
+                                                              "-point grid are not below half the box");
     const std::string sym = scene.string("poisson_periodic.symbol", "pseudospectral");
     poisson::PeriodicOptions opt;
     if (sym == "finite-difference")
@@ -124,11 +129,7 @@ void pic(const Scene& scene, Output& out, std::string& md) {
         scene.reject("poisson_periodic.symbol", "'" + sym + "' is not pseudospectral or finite-difference");
     std::vector<Kernel> kernels;
     for (const std::string& s : specs) {
-        try {
-            kernels.push_back(mollify::exact::kernel(s, D));
-        } catch (const Error& e) {
-            scene.reject("poisson_periodic.kernels", e.what());
-        }
+        kernels.push_back(checked(scene, "poisson_periodic.kernels", [&] { return mollify::exact::kernel(s, D); }));
     }
 
     // Particles at the cell centres of an m^D lattice, q = rho(x) / m^D (the
