@@ -203,6 +203,15 @@ TEST(MollifyRun, FranzPrecisionAndCheckedKernels) {
     Outcome r = w.run("run scenes/bad_precision.toml");
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("franz.precision = \"exact\": unknown precision 'exact'"), std::string::npos) << r.err;
+    // An integrator the library does not know, and one eps twice (its rates had been fitted anyway).
+    w.file("scenes/bad_integrator.toml", head + "integrator = \"euler\"\n");
+    r = w.run("run scenes/bad_integrator.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("franz.integrator = \"euler\": unknown integrator 'euler'"), std::string::npos) << r.err;
+    w.file("scenes/twice.toml", std::string(scene_head) + "[franz]\ncase = \"torus\"\nk = [1]\nl = [1]\nm = [1]\nepsilon = [0.25, 0.2, 0.25]\n");
+    r = w.run("run scenes/twice.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("franz.epsilon = [0.25, 0.2, 0.25]: eps = 0.25 is given twice"), std::string::npos) << r.err;
     w.file("scenes/bad_check.toml", head + "precision_check = [\"wendland:k=3\"]\n");
     r = w.run("run scenes/bad_check.toml");
     EXPECT_EQ(r.status, 1);

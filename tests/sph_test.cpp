@@ -283,6 +283,13 @@ TEST(Franz, ConvergenceRateFit) {
     EXPECT_NEAR(r.constant, 3.0, 1e-10);
     EXPECT_THROW(convergence_rate(std::vector<double>{0.1}, std::vector<double>{1.0}), Error);
     EXPECT_THROW(convergence_rate(eps, std::vector<double>{1, 0, 1}), Error);
+    // One eps twice: no slope (QR had returned one anyway).
+    try {
+        convergence_rate(std::vector<double>{0.125, 0.125}, std::vector<double>{1e-3, 2e-3});
+        ADD_FAILURE() << "a rate from one eps";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("every point has eps = 0.125; a rate needs two distinct eps"), std::string::npos) << e.what();
+    }
 }
 
 TEST(Franz, BadInput) {

@@ -104,6 +104,8 @@ Settings read(const Scene& scene) {
     for (double e : s.eps)
         if (!(e > 0) || !std::isfinite(e)) scene.reject("franz.epsilon", "eps = " + format(e, 17) + " is not positive");
     std::sort(s.eps.begin(), s.eps.end(), std::greater<>());
+    if (const auto twice = std::adjacent_find(s.eps.begin(), s.eps.end()); twice != s.eps.end())
+        scene.reject("franz.epsilon", "eps = " + format(*twice, 17) + " is given twice (the rates are fits over distinct eps)");
     for (double e : s.eps) {
         const double h = s.problem.spacing(e);
         if (!(e >= 2 * h))
@@ -119,7 +121,7 @@ Settings read(const Scene& scene) {
                                         format(s.problem.solution.blow_up_time(), 6) + "), where the exact solution exists");
     s.cfl = scene.number("franz.cfl", 0.05);
     if (!(s.cfl > 0 && s.cfl <= 1)) scene.reject("franz.cfl", "cfl = " + format(s.cfl, 6) + " is not in (0, 1]");
-    s.integrator = sph::integrator(scene.string("franz.integrator", "rk4"));
+    s.integrator = checked(scene, "franz.integrator", [&] { return sph::integrator(scene.string("franz.integrator", "rk4")); });
     s.dt_check = scene.has("franz.dt_check") ? named_kernels(scene, s, "franz.dt_check") : std::vector<std::size_t>{0};
     s.precision = scene_precision(scene, "franz.precision");
     if (scene.has("franz.precision_check")) s.precision_check = named_kernels(scene, s, "franz.precision_check");

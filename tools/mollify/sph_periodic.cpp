@@ -71,7 +71,7 @@ void run(const Scene& scene, Output& out) {
     if (times.empty() || !(times.front() >= 0)) scene.reject("sph_periodic.snapshots", "needs times >= 0");
     const double cfl = scene.number("sph_periodic.cfl", 0.1);
     if (!(cfl > 0 && cfl <= 1)) scene.reject("sph_periodic.cfl", format(cfl, 6) + " is not in (0, 1]");
-    const sph::Integrator method = sph::integrator(scene.string("sph_periodic.integrator", "leapfrog"));
+    const sph::Integrator method = checked(scene, "sph_periodic.integrator", [&] { return sph::integrator(scene.string("sph_periodic.integrator", "leapfrog")); });
 
     const Precision precision = scene_precision(scene, "sph_periodic.precision");
     const Kernel kernel = mollify::exact::kernel(spec, D, precision);

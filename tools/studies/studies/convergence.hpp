@@ -9,6 +9,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <span>
 #include <string>
@@ -37,6 +38,10 @@ inline Rate convergence_rate(std::span<const double> eps, std::span<const double
         a(i, 1) = 1;
         b(i) = std::log(q);
     }
+    // One eps repeated leaves the slope undetermined (QR would return some
+    // solution of the rank-1 system: a rate that means nothing).
+    if (std::all_of(eps.begin(), eps.end(), [&](double e) { return e == eps.front(); }))
+        fail("convergence_rate: every point has eps = " + mollify::detail::show(eps.front()) + "; a rate needs two distinct eps");
     const Eigen::Vector2d x = a.colPivHouseholderQr().solve(b);
     const Eigen::VectorXd r = a * x - b;
     return {x(0), std::exp(x(1)), std::sqrt(r.squaredNorm() / static_cast<double>(n))};
