@@ -38,7 +38,8 @@ def _rational(x, what):
 def value(spec, dim, r, quantity="value", h=1):
     """The exact value of a quantity of a kernel at radius r (and smoothing length h).
 
-    r, h: exact rationals (int, Fraction, float, or a string "1/3", "0.125").
+    r, h: exact rationals (int, Fraction, float, or a string "1/3", "0.125",
+    or a hex-float "0x1.4cccccccccccdp-2", as `mollify-gen value --r` reads them).
     quantity: value, dr, d2r, laplacian, grad_over_r, hess_radial, potential,
     dpotential, dpotential_over_r, potential_hess_radial (scaled by h as the
     runtime scales them: f_h(r) = h^p f(r/h)); with h = 1 also the softening

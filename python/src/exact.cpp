@@ -34,7 +34,8 @@ const gen::Radial& quantity_of(const std::string& canonical, int dim, const std:
 gen::ExactValue value(const std::string& spec, int dim, const std::string& r, const std::string& name,
                       const std::string& h) {
     const std::string canonical = spec_string(parse_spec(spec));
-    const gen::Q rq = gen::parse_rational(r, "r"), hq = gen::parse_rational(h, "h");
+    // The numbers `mollify-gen value --r` reads: rationals, decimals and hex-floats (a double's exact value).
+    const gen::Q rq = gen::parse_rational_or_hex_float(r, "r"), hq = gen::parse_rational_or_hex_float(h, "h");
     const gen::Scaling s = hq == 1 ? gen::Scaling{} : gen::scaling(name, dim);
     const std::string where = name + " of " + canonical + " in D = " + std::to_string(dim);
     return gen::exact_value(quantity_of(canonical, dim, name), rq, hq, s, where);

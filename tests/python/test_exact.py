@@ -67,6 +67,20 @@ def test_the_same_numbers_as_mollify_gen_value():
         assert [v.decimal(30), v.closed_form] == out, (spec, q)
 
 
+def test_hex_floats_are_exact_as_in_mollify_gen_value():
+    # A double's exact value: the hex-float string, the float itself and its Fraction agree;
+    # its shortest decimal "0.325" is another rational (13/40) and another value.
+    x = float.fromhex("0x1.4cccccccccccdp-2")
+    for q in ("value", "dr"):
+        by_hex = mollify.exact.value("wendland:k=2", 3, "0x1.4cccccccccccdp-2", q)
+        assert by_hex.closed_form == mollify.exact.value("wendland:k=2", 3, x, q).closed_form
+        assert by_hex.closed_form == mollify.exact.value("wendland:k=2", 3, Fraction(x), q).closed_form
+        assert by_hex.closed_form != mollify.exact.value("wendland:k=2", 3, "0.325", q).closed_form
+    assert mollify.exact.value("wendland:k=0", 1, "0x1p-1", h="0x1p+1") == mollify.exact.value("wendland:k=0", 1, "1/4") / 2
+    with pytest.raises(mollify.Error, match="0x1p"):
+        mollify.exact.value("wendland:k=0", 1, "0x1p")
+
+
 def test_scaling_in_h():
     # f_h(r) = h^p f(r/h): W in 1D p = -1, W' p = -2, the potential p = +1.
     w = lambda r, q="value", h=1: mollify.exact.value("wendland:k=0", 1, r, q, h=h)
