@@ -48,12 +48,15 @@ std::shared_ptr<const table::Kernel> owned(TableFile file) {
 }
 
 // A cached table, or nullptr where there is none or it is not the one asked
-// for (a truncated or foreign file, another spec behind the same name).
+// for (a truncated, changed or foreign file, another spec behind the same
+// name, a file without the checksum of format 4: regenerated, never trusted).
 std::shared_ptr<const table::Kernel> cached(const std::filesystem::path& file, const std::string& key, int dim) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec)) return nullptr;
     try {
-        auto t = owned(TableFile::load(file));
+        TableFile f = TableFile::load(file);
+        if (f.version() < 4) return nullptr;
+        auto t = owned(std::move(f));
         if (key == t->spec && t->dim == dim) return t;
     } catch (const Error&) {
     }

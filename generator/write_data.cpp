@@ -2,9 +2,9 @@
 // everything its table::Kernel holds, for programs that load tables at run
 // time (include/mollify/table_file.hpp) instead of compiling them.
 //
-// Format (version 3; version 2 had no "split", version 1 no "plain"). Lines of fields separated by one space; every double
+// Format (version 4; version 3 had no checksum, version 2 no "split", version 1 no "plain"). Lines of fields separated by one space; every double
 // is a C99 hex-float ("%a": exact, e.g. 0x1.3b2075224955ap+2, -0x0p+0, inf).
-//   mollify-table 3
+//   mollify-table 4
 //   generator <the generator's version>    (the rest of the line)
 //   spec <canonical spec>                  (the rest of the line)
 //   dim <D>
@@ -27,9 +27,15 @@
 // is k > 0, then "split <s> <content> <content_lo> <m_0> ... <m_n-1>" where
 // table::Term::split is s > 0; and last
 //   end
+//   checksum crc32 <8 lower-case hex digits>
+// the CRC-32 (zlib's crc32, Python's zlib.crc32) of every byte before the
+// checksum line, which the reader checks: a file changed after it was
+// written fails to load (TableFile::version() >= 4).
 #include "write_data.hpp"
 
 #include "rounding.hpp"
+
+#include <boost/crc.hpp>
 
 #include <cstdio>
 
@@ -62,7 +68,7 @@ void write_term(std::string& out, const RoundedTerm& t) {
 
 std::string kernel_data(const KernelFacts& f, const std::vector<std::optional<std::vector<RoundedPiece>>>& tables) {
     const ExactKernel& k = f.kernel;
-    std::string out = "mollify-table 3\n";
+    std::string out = "mollify-table 4\n";
     out += "generator mollify-gen " + generator_version() + "\n";
     out += "spec " + f.spec + "\n";
     out += "dim " + std::to_string(k.dim) + "\n";
@@ -82,7 +88,12 @@ std::string kernel_data(const KernelFacts& f, const std::vector<std::optional<st
             for (const RoundedTerm& t : p.terms) write_term(out, t);
         }
     }
-    return out + "end\n";
+    out += "end\n";
+    boost::crc_32_type crc;
+    crc.process_bytes(out.data(), out.size());
+    char sum[16];
+    std::snprintf(sum, sizeof sum, "%08x", static_cast<unsigned>(crc.checksum()));
+    return out + "checksum crc32 " + sum + "\n";
 }
 
 std::string kernel_data_path(const std::string& spec, int dim) {

@@ -3,8 +3,11 @@
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 
+#include <boost/crc.hpp>
+
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <deque>
 #include <fstream>
@@ -14,6 +17,7 @@
 namespace mollify {
 
 struct TableFile::Storage {
+    int version = 0;
     std::string spec, normalisation_exact;
     // deques: elements stay in place while more are appended, so the
     // pointers in `kernel` stay valid.
@@ -85,6 +89,8 @@ public:
         std::string rest;
         return !(in_ >> rest);
     }
+    // Where the next line starts, as a byte offset into the text.
+    std::size_t offset() { return static_cast<std::size_t>(in_.tellg()); }
 
 private:
     std::istringstream in_;
@@ -214,6 +220,24 @@ table::Quantity quantity(Reader& r, TableFile::Storage& s, int index) {
     return {s.pieces.back().data(), npieces};
 }
 
+// Version 4's last line, "checksum crc32 <8 hex digits>": the CRC-32 (as
+// zlib's crc32 and Python's zlib.crc32 compute it) of every byte before that
+// line. Checked after the fields, so a malformed file is named by its field.
+void check_sum(Reader& r, const std::string& text) {
+    const std::size_t covered = r.offset();
+    r.line("checksum");
+    if (r.field("the checksum's kind") != "crc32") r.bad("checksum kind is not crc32");
+    const std::string written = r.field("the CRC-32");
+    r.done();
+    boost::crc_32_type crc;
+    crc.process_bytes(text.data(), covered);
+    char actual[16];
+    std::snprintf(actual, sizeof actual, "%08x", static_cast<unsigned>(crc.checksum()));
+    if (written != actual)
+        r.bad("checksum crc32 " + written + " is not the file's (" + actual +
+              "): the file was changed after mollify-gen wrote it (regenerate it)");
+}
+
 int single_integer(Reader& r, const char* key) {
     r.line(key);
     const int v = r.integer(key);
@@ -236,15 +260,17 @@ TableFile& TableFile::operator=(TableFile&&) noexcept = default;
 TableFile::~TableFile() = default;
 
 const table::Kernel& TableFile::kernel() const { return s_->kernel; }
+int TableFile::version() const { return s_->version; }
 
 TableFile TableFile::parse(const std::string& text, const std::string& origin) {
     auto s = std::make_unique<Storage>();
     Reader r(text, origin);
     r.line("mollify-table");
     const std::string version = r.field("the format version");
-    if (version != "1" && version != "2" && version != "3")
-        r.bad("format version '" + version + "' is not 1, 2 or 3 (a newer mollify-gen wrote it?)");
+    if (version != "1" && version != "2" && version != "3" && version != "4")
+        r.bad("format version '" + version + "' is not 1, 2, 3 or 4 (a newer mollify-gen wrote it?)");
     r.done();
+    s->version = version[0] - '0';
     r.line("generator");
     s->spec = r.line("spec");
     if (s->spec.empty() || s->spec.find(' ') != std::string::npos) r.bad("spec '" + s->spec + "' is not a kernel spec");
@@ -265,7 +291,8 @@ TableFile TableFile::parse(const std::string& text, const std::string& origin) {
     for (int i = 0; i < table::quantity_count; ++i) k.quantities[i] = quantity(r, *s, i);
     r.line("end");
     r.done();
-    if (!r.at_end()) r.bad("text after 'end'");
+    if (s->version >= 4) check_sum(r, text);
+    if (!r.at_end()) r.bad(s->version >= 4 ? "text after the checksum" : "text after 'end'");
     return TableFile(std::move(s));
 }
 

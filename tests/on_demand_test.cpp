@@ -118,6 +118,37 @@ TEST(OnDemand, GeneratedTablesAreCachedByVersionSpecAndDimension) {
     EXPECT_GT(fs::file_size(file), 0u);
     EXPECT_NO_THROW(mollify::TableFile::load(file));
 
+    // A file changed where every field stays well formed (the first coefficient of W's first term
+    // one ulp up, so the values move) fails its checksum and is regenerated; so is a file of
+    // format 3 (no checksum): a cache trusts only what it can check.
+    auto text_of = [&] {
+        std::ifstream in(file);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    auto write = [&](const std::string& text) { std::ofstream(file, std::ios::trunc) << text; };
+    const std::string good = text_of();
+    const std::size_t term = good.find("\nterm ");
+    ASSERT_NE(term, std::string::npos);
+    const std::size_t digit = good.find(" 0x1.", good.find(" 0x", good.find(" 0x", good.find(" 0x", term) + 1) + 1) + 1);
+    ASSERT_NE(digit, std::string::npos);
+    std::string changed = good;
+    const std::size_t last = changed.find('p', digit) - 1;  // the mantissa's last hex digit
+    changed[last] = changed[last] == 'f' ? 'e' : static_cast<char>(changed[last] + 1);
+    ASSERT_NE(changed, good);
+    auto as_v3 = [](std::string text) {  // without the checksum line, as format 3
+        text = text.substr(0, text.find("checksum"));
+        return text.replace(0, std::string("mollify-table 4").size(), "mollify-table 3");
+    };
+    EXPECT_NO_THROW(mollify::TableFile::parse(as_v3(changed), "v3"));  // well formed: only the checksum tells
+    write(changed);
+    EXPECT_THROW(mollify::TableFile::load(file), mollify::Error);
+    EXPECT_EQ(mollify::exact::kernel(spec, 2, mollify::Precision::accurate, cache.options()).value(0.3, 1.0), first);
+    EXPECT_EQ(text_of(), good);
+    write(as_v3(good));
+    EXPECT_EQ(mollify::TableFile::load(file).version(), 3);
+    EXPECT_EQ(mollify::exact::kernel(spec, 2, mollify::Precision::accurate, cache.options()).value(0.3, 1.0), first);
+    EXPECT_EQ(text_of(), good);
+
     // A file holding another kernel under this name is not used either.
     const fs::path other = mollify::exact::cache_file(cache.dir, "wendland:k=5,l=1", 2);
     mollify::exact::table("wendland:k=5,l=1", 2, cache.options());

@@ -188,17 +188,29 @@ TEST(TableFile, MovingKeepsTheTableValid) {
 TEST(TableFile, BadFilesFailNamingFileLineAndValue) {
     const std::string good = box_d1_text();
     ASSERT_NO_THROW(TableFile::parse(good, "good.table"));
-    // Versions 1 (before table::Term::plain) and 2 (before split) are read as well.
-    ASSERT_NE(good.find("mollify-table 3\n"), std::string::npos);
-    EXPECT_NO_THROW(TableFile::parse(replaced(good, "mollify-table 3", "mollify-table 1"), "v1.table"));
-    EXPECT_NO_THROW(TableFile::parse(replaced(good, "mollify-table 3", "mollify-table 2"), "v2.table"));
+    // Versions 1 (before table::Term::plain), 2 (before split) and 3 (before the checksum) are read
+    // as well, without a checksum line.
+    ASSERT_EQ(good.rfind("mollify-table 4\n", 0), 0u);
+    const std::string unsummed = good.substr(0, good.find("checksum crc32 "));
+    for (const char* v : {"1", "2", "3"}) {
+        const TableFile f = TableFile::parse(replaced(unsummed, "mollify-table 4", std::string("mollify-table ") + v), "old.table");
+        EXPECT_EQ(f.version(), v[0] - '0');
+    }
+    EXPECT_EQ(TableFile::parse(good, "good.table").version(), 4);
     // Wendland C4's W: c = 165/(32 pi) (3, 18, 35), exact at the grid 2^-23.
     const std::string c4 = kernel_text("wendland:k=2", "wendland/k_2_D3.table");
     ASSERT_NO_THROW(TableFile::parse(c4, "c4.table"));
     const std::string split = " split 23 0x1.a42b46d861c78p+0 0x1.a40f855b9a531p-54 0x1.8p+1 0x1.2p+4 0x1.18p+5\n";
     ASSERT_NE(c4.find(split), std::string::npos);
     const std::vector<std::pair<std::string, std::string>> cases = {
-        {replaced(good, "mollify-table 3", "mollify-table 7"), "format version '7'"},
+        {replaced(good, "mollify-table 4", "mollify-table 7"), "format version '7'"},
+        // Version 4's checksum: a well-formed change (W's first coefficient one ulp up, which the
+        // split's check, within 2^-51 of content m_0, lets through), a changed or missing checksum
+        // line, a checksum of another kind.
+        {replaced(c4, " 0x1.3b2075224955ap+2 ", " 0x1.3b2075224955bp+2 "), "is not the file's"},
+        {replaced(c4, "checksum crc32 ", "checksum crc32 0"), "is not the file's"},
+        {c4.substr(0, c4.find("checksum")), "the file ends where 'checksum' was expected"},
+        {replaced(c4, "checksum crc32 ", "checksum md5 "), "checksum kind is not crc32"},
         // A split that would leave Horner's rule inexact: 3 + 18 q + 35 q^2 at the grid 2^-24 needs 54 bits.
         {replaced(c4, " split 23 ", " split 24 "), "split = 24 leaves Horner's rule inexact"},
         {replaced(c4, " split 23 ", " split 27 "), "split = 27 is outside 1..26"},
@@ -222,7 +234,9 @@ TEST(TableFile, BadFilesFailNamingFileLineAndValue) {
         {replaced(c4, "piece 0x1p+0 inf 0", "piece 0x1p+0 0x1p+1 0"), "the last piece ends at 2, not inf"},
         {replaced(good, "has_potential 0", "has_potential 2"), "has_potential 2"},
         {good.substr(0, good.rfind('\n', good.size() / 2) + 1), "the file ends"},  // after a whole line
-        {good + "junk\n", "text after 'end'"},
+        {good + "junk\n", "text after the checksum"},
+        {unsummed + "junk\n", "'junk' is not a 'checksum' line"},
+        {replaced(unsummed, "mollify-table 4", "mollify-table 3") + "junk\n", "text after 'end'"},
     };
     for (const auto& [text, named] : cases) {
         const std::string e = error_of(text);

@@ -21,6 +21,11 @@ public:
     static TableFile parse(const std::string& text, const std::string& origin);
 
     const table::Kernel& kernel() const;
+    // The format version read (1-4). Version 4 files end in a CRC-32 of
+    // everything before it, checked on reading: a file changed after
+    // mollify-gen wrote it fails to load even where every field is well
+    // formed. Versions 1-3 (no checksum) are read as before.
+    int version() const;
 
     TableFile(TableFile&&) noexcept;
     TableFile& operator=(TableFile&&) noexcept;

@@ -9,6 +9,7 @@
 # function's few plain roundings outside), 256 for a combination's second
 # derivatives within one ulp of a breakpoint (the piece is chosen by the
 # rounded r/h: accuracy_test.cpp says why).
+import zlib
 from fractions import Fraction
 
 import numpy as np
@@ -95,6 +96,13 @@ def test_generated_kernel_is_cached(tmp_path):
     again = mollify.exact.kernel("wendland:k=5,l=2", 2, cache_dir=tmp_path)
     r = np.linspace(0, 1, 101)
     assert np.array_equal(k.value(r, 1.0), again.value(r, 1.0))
+    # The file's last line is zlib's CRC-32 of everything before it (format 4): another
+    # program checks a table file with its own zlib, as TableFile::load checks it.
+    [table] = tmp_path.rglob("*.table")
+    text = table.read_bytes()
+    body, last = text[:text.rindex(b"checksum ")], text[text.rindex(b"checksum "):]
+    assert text.startswith(b"mollify-table 4\n") and body.endswith(b"\nend\n")
+    assert last == b"checksum crc32 %08x\n" % zlib.crc32(body)
 
 
 def test_fast_precision_is_the_same_kernel_within_its_bound():
