@@ -63,6 +63,20 @@ int run_emit(const std::string& out, const std::vector<std::string>& only, const
         const std::vector<int>& dims = convention(target_name).dims;
         std::erase_if(entries, [&](const CatalogueEntry& e) { return std::find(dims.begin(), dims.end(), e.dim) == dims.end(); });
     }
+    // A kernel asked for by --only that none of the dimensions left takes is
+    // an error naming it (viscosity with --dim 1 had written no kernel, exit 0).
+    for (const Spec& s : only.empty() ? std::vector<Spec>{} : specs)
+        if (std::none_of(entries.begin(), entries.end(), [&](const CatalogueEntry& e) { return spec_string(e.spec) == spec_string(s); })) {
+            std::string has;
+            for (const CatalogueEntry& e : expand_dimensions({s})) has += (has.empty() ? "" : ", ") + std::to_string(e.dim);
+            std::string asked, taken;
+            for (int d : only_dims) asked += (asked.empty() ? "" : ", ") + std::to_string(d);
+            if (target_name != "cpp")
+                for (int d : convention(target_name).dims) taken += (taken.empty() ? "" : ", ") + std::to_string(d);
+            fail("--only " + spec_string(s) + " exists in D = " + has + ", but " +
+                 (asked.empty() ? "" : "--dim asks for D = " + asked + (taken.empty() ? "" : " and ")) +
+                 (taken.empty() ? "" : "--target " + target_name + " takes D = " + taken) + ": nothing to emit");
+        }
     // Each kernel's file is staged (written beside its place) as soon as it
     // is rendered, while the other kernels are still being computed; all
     // are renamed into place at the end, or none.

@@ -230,6 +230,10 @@ TargetFiles write_phantom(const TargetKernel& tk, const std::string& command) {
     const Constant wab0 = at_zero(w, Q(1)), gradh0 = at_zero(w, Q(-3));
     const Constant dphidh0 = at_zero(functions[5].f, Q(1));
     const Exact av_num = radial_integral(w.derivative(), 4), av_den = radial_integral(w.derivative(), 3);
+    if (av_den.is_zero())  // a step kernel (box): w' = 0 inside, its jump at the edge is no function
+        fail("--target phantom: " + facts.spec + " has w' = 0 inside its support (a step kernel): Phantom's grkern "
+             "and av_factor = int q^4 w' dq / int q^3 w' dq (Meru & Bate 2012, eq. B21; here 0/0) need a "
+             "differentiable kernel");
     const Constant av_factor = ratio(av_num * radkern, av_den);
     const DerivedConstant hfact = phantom_hfact(k);
 

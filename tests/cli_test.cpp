@@ -181,6 +181,20 @@ TEST(Cli, BadEmitWritesNothing) {
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.err.find("k=99"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out));
+    // A kernel that no dimension left takes (these had written no kernel and exited 0), and a step
+    // kernel for Phantom (0/0 in its av_factor had been named as "a zero denominator" alone).
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {" --only viscosity --dim 1", "--only viscosity exists in D = 2, 3, but --dim asks for D = 1: nothing to emit"},
+        {" --only wendland:k=2 --target phantom --dim 2",
+         "--only wendland:k=2 exists in D = 1, 2, 3, but --dim asks for D = 2 and --target phantom takes D = 3: nothing to emit"},
+        {" --only box --target phantom", "box has w' = 0 inside its support (a step kernel)"},
+    };
+    for (const auto& [args, named] : cases) {
+        const Outcome bad = run("emit --out " + out.string() + args);
+        EXPECT_EQ(bad.status, 2) << args;
+        EXPECT_NE(bad.err.find(named), std::string::npos) << args << " -> " << bad.err;
+        EXPECT_FALSE(fs::exists(out)) << args;
+    }
 }
 
 TEST(Cli, EmitOnlyNamesItsCommandInTheBanner) {
