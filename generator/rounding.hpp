@@ -48,11 +48,12 @@ std::pair<double, double> round_to_double_double(const Evaluator& f);
 // C99 hexadecimal floating literal ("0x1.8p-2"), exact for every double.
 std::string hex_literal(double x);
 
-// N significant digits, scientific notation ("6.77e-01"), correctly rounded
-// (round half to even).
 // The most significant digits a decimal gives (every one delivered: ~400,000
 // bits for an irrational value, 0.2 s); front ends name their own option.
 inline constexpr int max_decimal_digits = 100000;
+
+// N significant digits, scientific notation ("6.77e-01"), correctly rounded
+// (round half to even).
 std::string decimal(const Q& q, int digits);
 std::string decimal(const Exact& x, int digits);
 std::string decimal(const Evaluator& f, int digits);

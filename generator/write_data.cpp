@@ -33,9 +33,9 @@
 // written fails to load (TableFile::version() >= 4).
 #include "write_data.hpp"
 
-#include "rounding.hpp"
+#include <mollify/table_file.hpp>
 
-#include <boost/crc.hpp>
+#include "rounding.hpp"
 
 #include <cstdio>
 
@@ -89,11 +89,7 @@ std::string kernel_data(const KernelFacts& f, const std::vector<std::optional<st
         }
     }
     out += "end\n";
-    boost::crc_32_type crc;
-    crc.process_bytes(out.data(), out.size());
-    char sum[16];
-    std::snprintf(sum, sizeof sum, "%08x", static_cast<unsigned>(crc.checksum()));
-    return out + "checksum crc32 " + sum + "\n";
+    return out + TableFile::checksum_line(out);
 }
 
 std::string kernel_data_path(const std::string& spec, int dim) {

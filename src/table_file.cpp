@@ -229,10 +229,8 @@ void check_sum(Reader& r, const std::string& text) {
     if (r.field("the checksum's kind") != "crc32") r.bad("checksum kind is not crc32");
     const std::string written = r.field("the CRC-32");
     r.done();
-    boost::crc_32_type crc;
-    crc.process_bytes(text.data(), covered);
-    char actual[16];
-    std::snprintf(actual, sizeof actual, "%08x", static_cast<unsigned>(crc.checksum()));
+    const std::string line = TableFile::checksum_line(std::string_view(text).substr(0, covered));
+    const std::string actual = line.substr(std::string("checksum crc32 ").size(), 8);
     if (written != actual)
         r.bad("checksum crc32 " + written + " is not the file's (" + actual +
               "): the file was changed after mollify-gen wrote it (regenerate it)");
@@ -261,6 +259,14 @@ TableFile::~TableFile() = default;
 
 const table::Kernel& TableFile::kernel() const { return s_->kernel; }
 int TableFile::version() const { return s_->version; }
+
+std::string TableFile::checksum_line(std::string_view body) {
+    boost::crc_32_type crc;
+    crc.process_bytes(body.data(), body.size());
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "%08x", static_cast<unsigned>(crc.checksum()));
+    return std::string("checksum crc32 ") + hex + "\n";
+}
 
 TableFile TableFile::parse(const std::string& text, const std::string& origin) {
     auto s = std::make_unique<Storage>();

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 
 namespace mollify {
 
@@ -26,6 +27,10 @@ public:
     // mollify-gen wrote it fails to load even where every field is well
     // formed. Versions 1-3 (no checksum) are read as before.
     int version() const;
+    // The last line of a version 4 file whose every byte before it is
+    // `body`: "checksum crc32 <8 lower-case hex digits>\n", zlib's CRC-32
+    // (Python's zlib.crc32). For writers (mollify-gen's, or one's own).
+    static std::string checksum_line(std::string_view body);
 
     TableFile(TableFile&&) noexcept;
     TableFile& operator=(TableFile&&) noexcept;
