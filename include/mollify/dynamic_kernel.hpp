@@ -93,7 +93,9 @@ void use_isa(std::string_view name);
 inline QuantityId quantity(std::string_view name) {
     for (int q = 0; q < table::quantity_count; ++q)
         if (name == quantity_names[q]) return static_cast<QuantityId>(q);
-    fail("unknown quantity '" + std::string(name) + "'");
+    std::string known;
+    for (int q = 0; q < table::quantity_count; ++q) known += (q ? ", " : "") + std::string(quantity_names[q]);
+    fail("unknown quantity '" + std::string(name) + "' (known: " + known + ")");
 }
 
 }  // namespace mollify
