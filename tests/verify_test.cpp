@@ -179,6 +179,12 @@ TEST(Verify, WrongSign) {
     expect_kind(r, DiagnosisKind::wrong_sign);
 }
 
+// A kernel that returns 0: the factor 0 said as such (it had read "normalisation off by the factor 0").
+TEST(Verify, ZeroEverywhere) {
+    const v::Report r = v::verify([](double, double) { return 0.0; }, "wendland:k=2", 3, Quantity::value);
+    expect_kind(r, DiagnosisKind::constant_factor, "constant factor 0: got = 0 where the exact value is not");
+}
+
 TEST(Verify, FactorTwoSupport) {
     // q = r/h on [0, 2) (Phantom's radkern 2) handed to a check of h = support.
     const mollify::Kernel k = runtime("wendland:k=1", 3);

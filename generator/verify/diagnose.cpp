@@ -120,6 +120,10 @@ std::string normalisation_text(const Setup& s, const std::optional<gen::Exact>& 
 
 Diagnosis constant_diagnosis(const Setup& s, const std::vector<Compared>& pts, const std::vector<std::size_t>& idx,
                              double c, bool floats, double bound) {
+    if (c == 0)  // "normalisation off by the factor 0" said nothing useful
+        return {DiagnosisKind::constant_factor,
+                "constant factor 0: got = 0 where the exact value is not (nothing computed, or h far from the "
+                "convention's)"};
     const auto e = exact_factor(s, pts, idx, c, floats, bound);
     const std::string f = e ? pretty(*e) : number(c, floats ? 8 : 17);
     if ((e && *e == gen::Exact(gen::Q(-1))) || (!e && std::abs(c + 1) <= 0x1p-40))

@@ -40,11 +40,14 @@ def compare(spec, dim, r, h, values, quantity="value", convention="cpp", ulps=4,
 def _evaluate(f, r, h):
     """f over the arrays in one call where it takes arrays (NumPy code), else
     once per point (scalar code: math.sqrt, `if q < 1`)."""
+    name = getattr(f, "__name__", repr(f))
+    on_arrays = ""  # what the call on arrays gave, where it gave no value per point
     try:
         with np.errstate(all="ignore"):
             got = np.asarray(f(r, h), dtype=np.float64)
         if got.shape == r.shape:
             return got
+        on_arrays = f"{name} on arrays of {r.size} points returned shape {got.shape}, not ({r.size},); "
     except Exception:  # noqa: BLE001 -- any failure on arrays means: call it per point
         pass
     got = np.empty_like(r)
@@ -52,8 +55,7 @@ def _evaluate(f, r, h):
         try:
             got[i] = float(f(ri, hi))
         except Exception as e:
-            raise _core.Error(f"{getattr(f, '__name__', repr(f))}(r={ri!r}, h={hi!r}) raised "
-                              f"{type(e).__name__}: {e}") from e
+            raise _core.Error(f"{on_arrays}{name}(r={ri!r}, h={hi!r}) raised {type(e).__name__}: {e}") from e
     return got
 
 

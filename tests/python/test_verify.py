@@ -117,6 +117,15 @@ def test_errors_name_the_bad_value():
 
     with pytest.raises(mollify.Error, match=r"broken\(r=.*h=.*RuntimeError: out of table"):
         mollify.verify(broken, "wendland:k=2", 3, uniform=FEW)
+    # A call on arrays that gives no value per point is named with its shape, before the
+    # per-point call's own failure (that alone had hidden what went wrong).
+
+    def one_column(r, h):
+        return k.value(r, h)[:, None]
+
+    with pytest.raises(mollify.Error, match=r"one_column on arrays of \d+ points returned shape \(\d+, 1\), not \(\d+,\); "
+                                            r"one_column\(r=0.0, h=1.0\) raised TypeError"):
+        mollify.verify(one_column, "wendland:k=2", 3, uniform=FEW)
     with pytest.raises(mollify.Error, match="speed"):
         mollify.verify(k.value, "wendland:k=2", 3, quantity="speed")
     with pytest.raises(mollify.Error, match="nonesuch"):
