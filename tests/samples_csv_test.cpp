@@ -28,7 +28,7 @@ std::string error_of(std::string_view text) {
 }
 
 TEST(SamplesCsv, ReadsNumbersExactly) {
-    // Python's repr, C's %.17g, Fortran's ES25.17E3, hex floats are not CSV numbers.
+    // Python's repr, C's %.17g, Fortran's ES25.17E3.
     const auto t = parse_samples_csv("r,h,value\n0.1,1,0.30000000000000004\n"
                                      "5.0000000000000000E-001, 2.5E+000 ,4.9406564584124654e-324\n"
                                      "0,1e-300,1.7976931348623157e308\n",
@@ -41,6 +41,24 @@ TEST(SamplesCsv, ReadsNumbersExactly) {
     EXPECT_EQ(t.value[1], std::bit_cast<double>(std::uint64_t{1}));  // the smallest subnormal
     EXPECT_EQ(t.h[2], 1e-300);
     EXPECT_EQ(t.value[2], 1.7976931348623157e308);
+}
+
+// Hex-floats, a double's exact value (C's %a, Python's float.hex, Fortran's EX editing), as
+// mollify-gen value --r reads them; a sign only in front of the prefix.
+TEST(SamplesCsv, ReadsHexFloats) {
+    const auto t = parse_samples_csv("r,h,value\n0x1.999999999999ap-4,0X1P+0,-0x1.8p+1\n0x0p+0,+0x1p-1074,0x1.fffffffffffffp+1023\n",
+                                     "s.csv");
+    ASSERT_EQ(t.r.size(), 2u);
+    EXPECT_EQ(t.r[0], 0.1);
+    EXPECT_EQ(t.h[0], 1.0);
+    EXPECT_EQ(t.value[0], -3.0);
+    EXPECT_EQ(t.r[1], 0.0);
+    EXPECT_EQ(t.h[1], std::bit_cast<double>(std::uint64_t{1}));
+    EXPECT_EQ(t.value[1], 1.7976931348623157e308);
+    EXPECT_EQ(error_of("r,h,value\n0x-1p3,1,2\n"), "s.csv:2: column 1 (r): \"0x-1p3\" is not a number");
+    EXPECT_EQ(error_of("r,h,value\n0x,1,2\n"), "s.csv:2: column 1 (r): \"0x\" is not a number");
+    EXPECT_EQ(error_of("r,h,value\n0x1p99999,1,2\n"), "s.csv:2: column 1 (r): \"0x1p99999\" is out of the range of a double");
+    EXPECT_EQ(error_of("r,h,value\n-0x1p-1,1,2\n"), "s.csv:2: column 1 (r): r = \"-0x1p-1\" is negative (r >= 0 needed)");
 }
 
 TEST(SamplesCsv, ColumnsInAnyOrderQuotedHeadersCrlfBlankLines) {
