@@ -90,7 +90,15 @@ std::shared_ptr<const table::Kernel> table(std::string_view spec, int dim, const
                                                     gen::EmitFormat::data);
     if (!r.failed_certificates.empty()) fail("kernel " + key + " failed its certificate: " + r.failed_certificates.front());
     if (r.files.size() != 1) fail("kernel " + key + ": the generator wrote " + std::to_string(r.files.size()) + " tables, not 1");
-    if (options.use_cache) gen::write_files(cache / gen::generator_version(), r);
+    if (options.use_cache) {
+        try {
+            gen::write_files(cache / gen::generator_version(), r);
+        } catch (const Error& e) {  // a read-only home on a cluster's nodes: say how to go on
+            fail(std::string(e.what()) + " (the cache of generated kernels, " + cache.string() +
+                 ": set MOLLIFY_CACHE_DIR to a writable folder, or generate without caching: "
+                 "exact::Options::use_cache = false, Python's use_cache=False)");
+        }
+    }
     return owned(TableFile::parse(r.files.begin()->second, key));
 }
 

@@ -159,6 +159,22 @@ TEST(OnDemand, GeneratedTablesAreCachedByVersionSpecAndDimension) {
     Cache none("none");
     mollify::exact::table(spec, 2, {none.dir, false});
     EXPECT_EQ(files_below(none.dir), 0u);
+
+    // A cache that cannot be written (here a file where the folder would be) names the folder and
+    // the ways on: MOLLIFY_CACHE_DIR, use_cache = false (which then works).
+    Cache blocked("blocked");
+    fs::create_directories(blocked.dir);
+    std::ofstream(blocked.dir / generator_version()) << "a file, not a folder\n";
+    try {
+        mollify::exact::table(spec, 2, blocked.options());
+        ADD_FAILURE() << "no error for an unwritable cache";
+    } catch (const mollify::Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find(blocked.dir.string()), std::string::npos) << m;
+        EXPECT_NE(m.find("set MOLLIFY_CACHE_DIR to a writable folder"), std::string::npos) << m;
+        EXPECT_NE(m.find("use_cache = false"), std::string::npos) << m;
+    }
+    EXPECT_EQ(mollify::exact::table(spec, 2, {blocked.dir, false})->spec, spec);
 }
 
 TEST(OnDemand, BadSpecsFailNamingTheValueBeforeAnyWork) {
