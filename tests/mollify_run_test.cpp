@@ -215,6 +215,9 @@ TEST(MollifyRun, FranzPrecisionAndCheckedKernels) {
     r = w.run("run scenes/twice.toml");
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("franz.epsilon = [0.25, 0.2, 0.25]: eps = 0.25 is given twice"), std::string::npos) << r.err;
+    // A t_end too short to move anything: Q = 0, no rate to fit (the fit's error had not named t_end).
+    w.expect_refused(std::string(scene_head) + "[franz]\ncase = \"torus\"\nk = [1]\nl = [1]\nm = [1]\nepsilon = [0.25, 0.2]\n",
+                     {{"t_end = 1e-300\n", "franz.t_end = 1e-300: the rates of wendland:k=1,l=1 over eps: convergence_rate: point"}});
     w.file("scenes/bad_check.toml", head + "precision_check = [\"wendland:k=3\"]\n");
     r = w.run("run scenes/bad_check.toml");
     EXPECT_EQ(r.status, 1);

@@ -347,13 +347,19 @@ void run_franz(const Scene& scene, Output& out) {
             e.push_back(r.eps);
             qk.push_back(r.q.kinetic);
         }
-        const sph::Rate rk = sph::convergence_rate(e, qk);
-        const double rp = rate_on(runs[i], {}, false);
         const KernelChoice& k = s.kernels[i];
         const auto p = printed.find({k.k, k.l, k.m});
         const Printed pr = p == printed.end() ? Printed{} : p->second;
-        const double sk = pr.kin_eps.empty() ? NAN : rate_on(runs[i], pr.kin_eps, true);
-        const double sp = pr.pot_eps.empty() ? NAN : rate_on(runs[i], pr.pot_eps, false);
+        sph::Rate rk;
+        double rp = NAN, sk = NAN, sp = NAN;
+        try {  // an error Q of 0 (a t_end too short to move anything) or not finite leaves no rate to fit
+            rk = sph::convergence_rate(e, qk);
+            rp = rate_on(runs[i], {}, false);
+            if (!pr.kin_eps.empty()) sk = rate_on(runs[i], pr.kin_eps, true);
+            if (!pr.pot_eps.empty()) sp = rate_on(runs[i], pr.pot_eps, false);
+        } catch (const Error& error) {
+            scene.reject("franz.t_end", "the rates of " + k.spec + " over eps: " + error.what() + " (no error to fit a rate to at this t_end)");
+        }
         const double dk = (std::isnan(sk) ? rk.rate : sk) - pr.kin, dp = (std::isnan(sp) ? rp : sp) - pr.pot;
         if (!std::isnan(pr.kin)) {
             ++compared;
