@@ -51,10 +51,11 @@ static inline double mollify_c_arcsech(double q, double e) {
 }
 static inline double mollify_c_log_q(double q, double e) { return q < 0.5 ? log(q) : log1p(-e); }
 /* x arcsech q and x log q where x carries a positive power of q: the limit 0 at q = 0 */
+/* (q >= 0 here: q <= 0 is q == 0, without a floating-point equality that -Wfloat-equal flags) */
 static inline double mollify_c_times_arcsech(double x, double q, double e) {
-    return q == 0 ? 0.0 : x * mollify_c_arcsech(q, e);
+    return q <= 0 ? 0.0 : x * mollify_c_arcsech(q, e);
 }
-static inline double mollify_c_times_log(double x, double q, double e) { return q == 0 ? 0.0 : x * mollify_c_log_q(q, e); }
+static inline double mollify_c_times_log(double x, double q, double e) { return q <= 0 ? 0.0 : x * mollify_c_log_q(q, e); }
 /* arcsin q as atan2(q, S): asin would magnify the rounding of q by 1/S near q = 1 */
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
@@ -84,7 +85,7 @@ static inline double mollify_c_near_origin(double r, double h, int p, int low, d
     int er, eh;
     const double mr = frexp(r, &er), mh = frexp(h, &eh), m = mr / mh;
     const int e = er - eh;
-    const double f = b == 0 ? a : a + b * (log(m) + e * @LOG2@); /* log(2) */
+    const double f = a + b * (log(m) + e * @LOG2@); /* log(2); m in (1/2, 2) as r > 0: b = 0 adds 0 */
     return ldexp(f * mollify_c_ipow(m, low) * mollify_c_ipow(mh, p), e * low + eh * p);
 }
 #endif
@@ -114,7 +115,7 @@ Syntax c_syntax(const std::string& prefix) {
         return out + ")";
     };
     s.log = "log";
-    s.infinity = "INFINITY";
+    s.infinity = "(double)INFINITY";  // C's INFINITY and NAN are floats: clang's -Wdouble-promotion
     return s;
 }
 
@@ -164,7 +165,7 @@ std::string c_function(const CodeKernel& k, const CodeQuantity& q, const Syntax&
     std::string out = "\n/* " + quantity_description(q.id) + ": f_h(r) = h^(" + std::to_string(q.scale_power) +
                       ") f(r/h)" + (q.log_h_coefficient ? " + log(h)/(2 pi)" : "") + " */\n";
     out += "static inline double " + name + "_h(double r, double h) {\n";
-    out += "    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */\n";
+    out += "    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */\n";
     if (q.near_origin) {
         const CodeQuantity::NearOrigin& o = *q.near_origin;
         out += "    if (r > 0 && r < " + hex_literal(detail::near_origin_bound) + " * h) /* below r/h = 2^-150: h^p q^" +

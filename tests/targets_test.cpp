@@ -461,10 +461,14 @@ void check_c() { TargetsC::run(); }
 void TargetsC::run() {
     ASSERT_NO_FATAL_FAILURE(prepare("c"));
     ASSERT_NO_FATAL_FAILURE(emit("c"));
-    // Every emitted header alone, then the driver with all of them.
-    for (const auto& f : fs::directory_iterator(language_dir / "c"))
-        ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gcc", "echo '#include \"" + f.path().string() +
-                                                           "\"' | gcc -std=c99 -Wall -Wextra -Werror -pedantic -x c -fsyntax-only -"));
+    // Every emitted header alone, then the driver with all of them. Also clang's every warning
+    // (-Weverything: a user's strictest flags, -Wdouble-promotion and -Wfloat-equal among them,
+    // which C's float NAN and INFINITY and q == 0 had tripped in every file).
+    for (const auto& f : fs::directory_iterator(language_dir / "c")) {
+        const std::string include = "echo '#include \"" + f.path().string() + "\"' | ";
+        ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gcc", include + "gcc -std=c99 -Wall -Wextra -Werror -pedantic -x c -fsyntax-only -"));
+        ASSERT_NO_FATAL_FAILURE(run_in_work_dir("clang", include + "clang -std=c99 -Weverything -Werror -x c -fsyntax-only -"));
+    }
     write_text(language_dir / "driver.c", c_driver(*kernels_, points_->size()));
     // -O1: the optimiser's flow warnings (-Wmaybe-uninitialized ...) as at
     // -O2, for 60 % of its compile time (the driver with every kernel: 4.2

@@ -50,10 +50,11 @@ static inline double mollify_c_arcsech(double q, double e) {
 }
 static inline double mollify_c_log_q(double q, double e) { return q < 0.5 ? log(q) : log1p(-e); }
 /* x arcsech q and x log q where x carries a positive power of q: the limit 0 at q = 0 */
+/* (q >= 0 here: q <= 0 is q == 0, without a floating-point equality that -Wfloat-equal flags) */
 static inline double mollify_c_times_arcsech(double x, double q, double e) {
-    return q == 0 ? 0.0 : x * mollify_c_arcsech(q, e);
+    return q <= 0 ? 0.0 : x * mollify_c_arcsech(q, e);
 }
-static inline double mollify_c_times_log(double x, double q, double e) { return q == 0 ? 0.0 : x * mollify_c_log_q(q, e); }
+static inline double mollify_c_times_log(double x, double q, double e) { return q <= 0 ? 0.0 : x * mollify_c_log_q(q, e); }
 /* arcsin q as atan2(q, S): asin would magnify the rounding of q by 1/S near q = 1 */
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
@@ -72,7 +73,7 @@ static inline double mollify_c_near_origin(double r, double h, int p, int low, d
     int er, eh;
     const double mr = frexp(r, &er), mh = frexp(h, &eh), m = mr / mh;
     const int e = er - eh;
-    const double f = b == 0 ? a : a + b * (log(m) + e * 0x1.62e42fefa39efp-1); /* log(2) */
+    const double f = a + b * (log(m) + e * 0x1.62e42fefa39efp-1); /* log(2); m in (1/2, 2) as r > 0: b = 0 adds 0 */
     return ldexp(f * mollify_c_ipow(m, low) * mollify_c_ipow(mh, p), e * low + eh * p);
 }
 #endif
@@ -185,7 +186,7 @@ static const double mollify_combo_m_2_base_wendland_k_1_D1_c[100] = {
 
 /* W: f_h(r) = h^(-1) f(r/h) */
 static inline double mollify_combo_m_2_base_wendland_k_1_D1_value_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return 0x0p+0;
     {
         const double q = r / h;
@@ -206,7 +207,7 @@ static inline double mollify_combo_m_2_base_wendland_k_1_D1_value(double r) { re
 
 /* W' = dW/dr: f_h(r) = h^(-2) f(r/h) */
 static inline double mollify_combo_m_2_base_wendland_k_1_D1_dr_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return 0x0p+0;
     {
         const double q = r / h;
@@ -227,7 +228,7 @@ static inline double mollify_combo_m_2_base_wendland_k_1_D1_dr(double r) { retur
 
 /* W'': f_h(r) = h^(-3) f(r/h) */
 static inline double mollify_combo_m_2_base_wendland_k_1_D1_d2r_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return 0x0p+0;
     {
         const double q = r / h;
@@ -248,7 +249,7 @@ static inline double mollify_combo_m_2_base_wendland_k_1_D1_d2r(double r) { retu
 
 /* Laplacian W'' + (D-1) W'/r: f_h(r) = h^(-3) f(r/h) */
 static inline double mollify_combo_m_2_base_wendland_k_1_D1_laplacian_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return 0x0p+0;
     {
         const double q = r / h;
@@ -269,7 +270,7 @@ static inline double mollify_combo_m_2_base_wendland_k_1_D1_laplacian(double r) 
 
 /* W'/r (grad W = (W'/r) x, finite at r = 0): f_h(r) = h^(-3) f(r/h) */
 static inline double mollify_combo_m_2_base_wendland_k_1_D1_grad_over_r_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return 0x0p+0;
     {
         const double q = r / h;
@@ -290,7 +291,7 @@ static inline double mollify_combo_m_2_base_wendland_k_1_D1_grad_over_r(double r
 
 /* (W'' - W'/r)/r^2 (Hessian = this x x^T + (W'/r) I): f_h(r) = h^(-5) f(r/h) */
 static inline double mollify_combo_m_2_base_wendland_k_1_D1_hess_radial_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > 0 && r < 0x1p-150 * h) /* below r/h = 2^-150: h^p q^-1 (a + b log q) */
         return mollify_c_near_origin(r, h, -5, -1, 0x1.3bp+9 /* 630 */, 0x0p+0 /* 0 */);
     if (r > h) return 0x0p+0;
@@ -301,7 +302,7 @@ static inline double mollify_combo_m_2_base_wendland_k_1_D1_hess_radial_h(double
         /* [0, 1/2), per radius a_j, factored at a_j (Franz (4.17)) */
         if (q < 0x1p-1)
             x = mollify_c_at_origin(mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D1_c + 24, 1, q) * mollify_c_ipow(q, -1) * mollify_c_to_edge(r, h, 0x1p-1)
-        + mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D1_c + 25, 1, q) * mollify_c_ipow(q, -1) * e, INFINITY);
+        + mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D1_c + 25, 1, q) * mollify_c_ipow(q, -1) * e, (double)INFINITY);
         /* [1/2, 1), per radius a_j, factored at a_j (Franz (4.17)) */
         else
             x = mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D1_c + 26, 1, q) * mollify_c_ipow(q, -1) * e;
@@ -313,7 +314,7 @@ static inline double mollify_combo_m_2_base_wendland_k_1_D1_hess_radial(double r
 
 /* phi, Delta phi = W, the Green's function outside the support: f_h(r) = h^(1) f(r/h) */
 static inline double mollify_combo_m_2_base_wendland_k_1_D1_potential_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D1_c + 47, 1, r * r) * r;
     {
         const double q = r / h;
@@ -339,7 +340,7 @@ static inline double mollify_combo_m_2_base_wendland_k_1_D1_potential(double r) 
 
 /* phi' = dphi/dr: f_h(r) = h^(0) f(r/h) */
 static inline double mollify_combo_m_2_base_wendland_k_1_D1_dpotential_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D1_c + 68, 1, r * r);
     {
         const double q = r / h;
@@ -366,7 +367,7 @@ static inline double mollify_combo_m_2_base_wendland_k_1_D1_dpotential(double r)
 
 /* phi'/r (grad phi = (phi'/r) x): f_h(r) = h^(-1) f(r/h) */
 static inline double mollify_combo_m_2_base_wendland_k_1_D1_dpotential_over_r_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D1_c + 85, 1, r * r) * mollify_c_ipow(r, -1);
     {
         const double q = r / h;
@@ -392,7 +393,7 @@ static inline double mollify_combo_m_2_base_wendland_k_1_D1_dpotential_over_r(do
 
 /* (phi'' - phi'/r)/r^2: f_h(r) = h^(-3) f(r/h) */
 static inline double mollify_combo_m_2_base_wendland_k_1_D1_potential_hess_radial_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D1_c + 99, 1, r * r) * mollify_c_ipow(r, -3);
     {
         const double q = r / h;

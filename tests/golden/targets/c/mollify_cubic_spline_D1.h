@@ -50,10 +50,11 @@ static inline double mollify_c_arcsech(double q, double e) {
 }
 static inline double mollify_c_log_q(double q, double e) { return q < 0.5 ? log(q) : log1p(-e); }
 /* x arcsech q and x log q where x carries a positive power of q: the limit 0 at q = 0 */
+/* (q >= 0 here: q <= 0 is q == 0, without a floating-point equality that -Wfloat-equal flags) */
 static inline double mollify_c_times_arcsech(double x, double q, double e) {
-    return q == 0 ? 0.0 : x * mollify_c_arcsech(q, e);
+    return q <= 0 ? 0.0 : x * mollify_c_arcsech(q, e);
 }
-static inline double mollify_c_times_log(double x, double q, double e) { return q == 0 ? 0.0 : x * mollify_c_log_q(q, e); }
+static inline double mollify_c_times_log(double x, double q, double e) { return q <= 0 ? 0.0 : x * mollify_c_log_q(q, e); }
 /* arcsin q as atan2(q, S): asin would magnify the rounding of q by 1/S near q = 1 */
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
@@ -72,7 +73,7 @@ static inline double mollify_c_near_origin(double r, double h, int p, int low, d
     int er, eh;
     const double mr = frexp(r, &er), mh = frexp(h, &eh), m = mr / mh;
     const int e = er - eh;
-    const double f = b == 0 ? a : a + b * (log(m) + e * 0x1.62e42fefa39efp-1); /* log(2) */
+    const double f = a + b * (log(m) + e * 0x1.62e42fefa39efp-1); /* log(2); m in (1/2, 2) as r > 0: b = 0 adds 0 */
     return ldexp(f * mollify_c_ipow(m, low) * mollify_c_ipow(mh, p), e * low + eh * p);
 }
 #endif
@@ -138,7 +139,7 @@ static const double mollify_cubic_spline_D1_c[53] = {
 
 /* W: f_h(r) = h^(-1) f(r/h) */
 static inline double mollify_cubic_spline_D1_value_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return 0x0p+0;
     {
         const double q = r / h;
@@ -158,7 +159,7 @@ static inline double mollify_cubic_spline_D1_value(double r) { return mollify_cu
 
 /* W' = dW/dr: f_h(r) = h^(-2) f(r/h) */
 static inline double mollify_cubic_spline_D1_dr_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return 0x0p+0;
     {
         const double q = r / h;
@@ -178,7 +179,7 @@ static inline double mollify_cubic_spline_D1_dr(double r) { return mollify_cubic
 
 /* W'': f_h(r) = h^(-3) f(r/h) */
 static inline double mollify_cubic_spline_D1_d2r_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return 0x0p+0;
     {
         const double q = r / h;
@@ -198,7 +199,7 @@ static inline double mollify_cubic_spline_D1_d2r(double r) { return mollify_cubi
 
 /* Laplacian W'' + (D-1) W'/r: f_h(r) = h^(-3) f(r/h) */
 static inline double mollify_cubic_spline_D1_laplacian_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return 0x0p+0;
     {
         const double q = r / h;
@@ -218,7 +219,7 @@ static inline double mollify_cubic_spline_D1_laplacian(double r) { return mollif
 
 /* W'/r (grad W = (W'/r) x, finite at r = 0): f_h(r) = h^(-3) f(r/h) */
 static inline double mollify_cubic_spline_D1_grad_over_r_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return 0x0p+0;
     {
         const double q = r / h;
@@ -238,7 +239,7 @@ static inline double mollify_cubic_spline_D1_grad_over_r(double r) { return moll
 
 /* (W'' - W'/r)/r^2 (Hessian = this x x^T + (W'/r) I): f_h(r) = h^(-5) f(r/h) */
 static inline double mollify_cubic_spline_D1_hess_radial_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > 0 && r < 0x1p-150 * h) /* below r/h = 2^-150: h^p q^-1 (a + b log q) */
         return mollify_c_near_origin(r, h, -5, -1, 0x1.8p+4 /* 24 */, 0x0p+0 /* 0 */);
     if (r > h) return 0x0p+0;
@@ -248,7 +249,7 @@ static inline double mollify_cubic_spline_D1_hess_radial_h(double r, double h) {
         double x;
         /* [0, 1/2) */
         if (q < 0x1p-1)
-            x = mollify_c_at_origin(mollify_c_horner(mollify_cubic_spline_D1_c + 17, 1, q * q) * mollify_c_ipow(q, -1), INFINITY);
+            x = mollify_c_at_origin(mollify_c_horner(mollify_cubic_spline_D1_c + 17, 1, q * q) * mollify_c_ipow(q, -1), (double)INFINITY);
         /* [1/2, 1) */
         else
             x = mollify_c_horner(mollify_cubic_spline_D1_c + 18, 1, q * q) * mollify_c_ipow(q, -3) * (e * (0x1p+0 + q));
@@ -260,7 +261,7 @@ static inline double mollify_cubic_spline_D1_hess_radial(double r) { return moll
 
 /* phi, Delta phi = W, the Green's function outside the support: f_h(r) = h^(1) f(r/h) */
 static inline double mollify_cubic_spline_D1_potential_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return mollify_c_horner(mollify_cubic_spline_D1_c + 27, 1, r * r) * r;
     {
         const double q = r / h;
@@ -281,7 +282,7 @@ static inline double mollify_cubic_spline_D1_potential(double r) { return mollif
 
 /* phi' = dphi/dr: f_h(r) = h^(0) f(r/h) */
 static inline double mollify_cubic_spline_D1_dpotential_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return mollify_c_horner(mollify_cubic_spline_D1_c + 39, 1, r * r);
     {
         const double q = r / h;
@@ -305,7 +306,7 @@ static inline double mollify_cubic_spline_D1_dpotential(double r) { return molli
 
 /* phi'/r (grad phi = (phi'/r) x): f_h(r) = h^(-1) f(r/h) */
 static inline double mollify_cubic_spline_D1_dpotential_over_r_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return mollify_c_horner(mollify_cubic_spline_D1_c + 46, 1, r * r) * mollify_c_ipow(r, -1);
     {
         const double q = r / h;
@@ -326,7 +327,7 @@ static inline double mollify_cubic_spline_D1_dpotential_over_r(double r) { retur
 
 /* (phi'' - phi'/r)/r^2: f_h(r) = h^(-3) f(r/h) */
 static inline double mollify_cubic_spline_D1_potential_hess_radial_h(double r, double h) {
-    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */
     if (r > h) return mollify_c_horner(mollify_cubic_spline_D1_c + 52, 1, r * r) * mollify_c_ipow(r, -3);
     {
         const double q = r / h;

@@ -107,10 +107,11 @@ static inline double mollify_c_arcsech(double q, double e) {
 }
 static inline double mollify_c_log_q(double q, double e) { return q < 0.5 ? log(q) : log1p(-e); }
 /* x arcsech q and x log q where x carries a positive power of q: the limit 0 at q = 0 */
+/* (q >= 0 here: q <= 0 is q == 0, without a floating-point equality that -Wfloat-equal flags) */
 static inline double mollify_c_times_arcsech(double x, double q, double e) {
-    return q == 0 ? 0.0 : x * mollify_c_arcsech(q, e);
+    return q <= 0 ? 0.0 : x * mollify_c_arcsech(q, e);
 }
-static inline double mollify_c_times_log(double x, double q, double e) { return q == 0 ? 0.0 : x * mollify_c_log_q(q, e); }
+static inline double mollify_c_times_log(double x, double q, double e) { return q <= 0 ? 0.0 : x * mollify_c_log_q(q, e); }
 /* arcsin q as atan2(q, S): asin would magnify the rounding of q by 1/S near q = 1 */
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
