@@ -167,8 +167,9 @@ contains
     eh = exponent(h)
     m = fraction(r) / mh
     ex = exponent(r) - eh
-    f = plain
-    if (logarithm /= 0.0_c_double) f = plain + logarithm * (log(m) + real(ex, c_double) * &
+    ! m in (1/2, 2) as r > 0, so log(m) is finite and logarithm = 0 adds 0 (no real
+    ! comparison: gfortran's -Wextra flags one, -Wcompare-reals)
+    f = plain + logarithm * (log(m) + real(ex, c_double) * &
       real(z'3FE62E42FEFA39EF', c_double))  ! log(2)
     y = scale(f * m**low * mh**p, ex * low + eh * p)
   end function near_origin
