@@ -5,7 +5,7 @@
 #include <mollify/spec.hpp>  // the number syntax, shared with kernel specs
 
 #include <cmath>
-#include <cstdlib>
+#include <optional>
 #include <string>
 
 namespace mollify::gen {
@@ -51,14 +51,11 @@ Q parse_rational(std::string_view text, std::string_view what) {
 }
 
 Q parse_rational_or_hex_float(std::string_view text, std::string_view what) {
-    const std::string_view digits = text.substr(!text.empty() && (text[0] == '-' || text[0] == '+') ? 1 : 0);
-    if (digits.size() < 2 || digits[0] != '0' || (digits[1] != 'x' && digits[1] != 'X')) return parse_rational(text, what);
-    const std::string s(text);
-    char* end = nullptr;
-    const double x = std::strtod(s.c_str(), &end);
-    if (end != s.c_str() + s.size() || !std::isfinite(x) || s.find_first_of("pP") == std::string::npos)
-        fail(std::string(what) + ": '" + s + "' is not a finite hex-float (expected e.g. 0x1.8p-2)");
-    return Q(x);  // mpq_set_d: exact
+    const std::optional<double> x = hex_float(text);  // the number grammar's hex-floats (spec.hpp)
+    if (!x) return parse_rational(text, what);
+    if (!std::isfinite(*x))
+        fail(std::string(what) + ": '" + std::string(text) + "' is not a finite hex-float (expected e.g. 0x1.8p-2)");
+    return Q(*x);  // mpq_set_d: exact
 }
 
 std::string pq(const Q& q) { return numerator(q).str() + "/" + denominator(q).str(); }

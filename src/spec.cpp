@@ -6,7 +6,9 @@
 #include <boost/spirit/home/x3.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -35,6 +37,23 @@ constexpr FamilyName family_names[] = {
 };
 
 }  // namespace detail
+
+std::optional<double> hex_float(std::string_view text) {
+    const bool negative = !text.empty() && text.front() == '-';
+    const std::string_view rest = text.substr(!text.empty() && (text.front() == '-' || text.front() == '+') ? 1 : 0);
+    if (rest.size() < 2 || rest[0] != '0' || (rest[1] != 'x' && rest[1] != 'X')) return std::nullopt;
+    const std::string_view body = rest.substr(2);  // from_chars' hex form has no prefix, and would take a sign here
+    constexpr double not_one = std::numeric_limits<double>::quiet_NaN();
+    if (body.empty() || body.front() == '-' || body.front() == '+' || body.find_first_of("pP") == std::string_view::npos)
+        return not_one;
+    double x = 0;
+    const auto [end, ec] = std::from_chars(body.data(), body.data() + body.size(), x, std::chars_format::hex);
+    if (end != body.data() + body.size() || (ec != std::errc() && ec != std::errc::result_out_of_range)) return not_one;
+    // Out of the doubles' range, above or below (from_chars reports both alike): inf, which
+    // every caller refuses as no finite double.
+    if (ec == std::errc::result_out_of_range) x = std::numeric_limits<double>::infinity();
+    return negative ? -x : x;
+}
 
 std::optional<NumberSyntax> split_number(std::string_view text) {
     namespace x3 = detail::x3;

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 
 using namespace mollify::gen;
@@ -114,8 +116,18 @@ TEST(Numbers, RationalAndDecimalInputs) {
               Q(Z("5854679515581645"), Z("18014398509481984")));  // the double 0.325, not 13/40
     EXPECT_NE(parse_rational_or_hex_float("0x1.4cccccccccccdp-2", "x"), parse_rational_or_hex_float("0.325", "x"));
     EXPECT_EQ(parse_rational_or_hex_float("3/4", "x"), Q(3, 4));
-    for (const char* bad : {"0x", "0x1.8", "0x1p", "0xzz", "0x1p99999", "0x1p-2junk", "-0x"})
+    for (const char* bad : {"0x", "0x1.8", "0x1p", "0xzz", "0x1p99999", "0x1p-2junk", "-0x", "0x-1p3", "0x1p-99999"})
         EXPECT_THROW(parse_rational_or_hex_float(bad, "x"), Error) << bad;
+    // The grammar's hex-floats (mollify::hex_float, which mollify verify --samples reads too):
+    // no prefix, not meant as one; malformed, NaN; beyond the doubles, inf.
+    EXPECT_FALSE(mollify::hex_float("0.5").has_value());
+    EXPECT_FALSE(mollify::hex_float("x1p0").has_value());
+    EXPECT_EQ(*mollify::hex_float("+0X1.8P+1"), 3.0);
+    EXPECT_EQ(*mollify::hex_float("-0x.8p0"), -0.5);
+    EXPECT_EQ(*mollify::hex_float("0x1p-1074"), 0x1p-1074);
+    for (const char* bad : {"0x", "0x1.8", "0x1p", "0x-1p3", "0x+1p3", "0x1p3 ", "-0x"})
+        EXPECT_TRUE(std::isnan(*mollify::hex_float(bad))) << bad;
+    EXPECT_EQ(*mollify::hex_float("-0x1p99999"), -std::numeric_limits<double>::infinity());
 }
 
 // Random junk built from the grammar's own characters: every input either

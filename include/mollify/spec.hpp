@@ -77,6 +77,15 @@ struct NumberSyntax {
 // The syntax of a number, or nullopt if the text is not one.
 std::optional<NumberSyntax> split_number(std::string_view text);
 
+// A C99 hex-float, a double's exact value as C's %a, Python's float.hex and
+// Fortran's EX write it: sign? 0[xX] hexdigits ('.' hexdigits*)? [pP] sign? digits
+// (or '.' hexdigits after the prefix). nullopt where the text does not start
+// with the prefix (after one sign): not meant as a hex-float; else its value
+// (+-inf where it lies beyond the doubles' range, above or below), or NaN where
+// the text is no whole hex-float ("0x-1p3", "0x1.8", "0x1p"): the caller names
+// the error.
+std::optional<double> hex_float(std::string_view text);
+
 // "3", "-3/4", "0.125", "1e-3" as an exact Ratio; Error naming `what`.
 Ratio parse_ratio(std::string_view text, std::string_view what);
 

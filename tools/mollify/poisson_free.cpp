@@ -80,14 +80,13 @@ void run(const Scene& scene, Output& out) {
     for (const double t : thetas) checked(scene, "poisson_free.thetas", [&] {
         poisson::TreeOptions{.theta = t, .order = 0, .leaf_size = static_cast<int>(leaf)}.check();
     });
-    checked(scene, "poisson_free.target_error", [&] { poisson::for_relative_error(target, D); });
+    const poisson::TreeOptions knob = checked(scene, "poisson_free.target_error", [&] { return poisson::for_relative_error(target, D); });
     checked(scene, "poisson_free.delta", [&] { (void)Smoothing(delta, D); });
     std::vector<Kernel> kernels;
     for (const std::string& s : specs) {
         kernels.push_back(mollify::exact::kernel(s, D));
         if (!kernels.back().has_potential()) scene.reject("poisson_free.kernels", s + " has no potential in D = " + std::to_string(D));
     }
-    const poisson::TreeOptions knob = poisson::for_relative_error(target, D);
 
     const Cloud<D> cloud = uniform<D>(n, delta, static_cast<unsigned long>(seed));
     const auto sources = cloud.sources();

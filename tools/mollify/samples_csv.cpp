@@ -4,11 +4,13 @@
 #include "samples_csv.hpp"
 
 #include <mollify/error.hpp>
+#include <mollify/spec.hpp>
 
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 namespace mollify::app {
@@ -86,22 +88,17 @@ double read_number(std::string_view field, std::size_t column, std::string_view 
     const std::string where = "column " + std::to_string(column + 1) + " (" + std::string(name) + "): ";
     std::string_view text = unquote(field);
     if (text.size() > 1 && text.front() == '+' && text[1] != '-') text.remove_prefix(1);  // from_chars takes no '+'
-    // A hex-float ("%a" in C, Fortran's EX editing, Python's float.hex): a
-    // double's exact value, as mollify-gen value --r reads it.
-    const bool negative = !text.empty() && text.front() == '-';
-    const std::string_view digits = text.substr(negative ? 1 : 0);
-    const bool hex = digits.size() > 2 && digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X');
-    if (hex) {
-        text = digits.substr(2);
-        if (text.front() == '-' || text.front() == '+') at.fail(where + shown(field) + " is not a number");  // "0x-1p3"
-    }
     double x = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x,
-                                           hex ? std::chars_format::hex : std::chars_format::general);
-    if (negative && hex) x = -x;
-    if (text.empty()) at.fail(where + "empty field, a number expected");
-    if (ec == std::errc::result_out_of_range) at.fail(where + shown(field) + " is out of the range of a double");
-    if (ec != std::errc() || end != text.data() + text.size()) at.fail(where + shown(field) + " is not a number");
+    if (const std::optional<double> hex = hex_float(text)) {  // C's %a, Python's float.hex: the grammar's (spec.hpp)
+        if (std::isnan(*hex)) at.fail(where + shown(field) + " is not a number");
+        if (std::isinf(*hex)) at.fail(where + shown(field) + " is out of the range of a double");
+        x = *hex;
+    } else {
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
+        if (text.empty()) at.fail(where + "empty field, a number expected");
+        if (ec == std::errc::result_out_of_range) at.fail(where + shown(field) + " is out of the range of a double");
+        if (ec != std::errc() || end != text.data() + text.size()) at.fail(where + shown(field) + " is not a number");
+    }
     if (!std::isfinite(x)) at.fail(where + shown(field) + " is not finite");
     if (name == "r" && x < 0) at.fail(where + "r = " + shown(field) + " is negative (r >= 0 needed)");
     if (name == "h" && x <= 0) at.fail(where + "h = " + shown(field) + " is not positive (h > 0 needed)");
