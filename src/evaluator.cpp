@@ -191,7 +191,17 @@ double fast_piece(const PiecePlan& p, const Scaled& a) {
 
 // ---- Precision::accurate ----
 
+// Quantity q's scale h^p as a double-double, times m^-P where its edge
+// factor is taken in units of 2^e (QuantityPlan::unit_edge: StaticKernel::
+// emitted's unit_edge_scale, the same products).
+DoubleDouble accurate_scale(const QuantityPlan& qp, QuantityId q, const Smoothing& s) {
+    const DoubleDouble scale{s.scale(q), s.scale_lo(q)};
+    if (qp.unit_edge == 0) return scale;
+    return scale * ipow_rt(DoubleDouble{s.inverse_significand(), s.inverse_significand_lo()}, qp.unit_edge);
+}
+
 DoubleDouble distance_to_edge_dd(const TermPlan& t, const Scaled& a) {
+    if (t.unit_edge) return a.eu;  // the quantity's scale has m^-P (accurate_scale)
     DoubleDouble d = a.ee;
     if (t.edge != 1.0) d = interior_distance(t.edge, t.edge_lo, a.qq);
     if (t.var == table::Var::r) return d;
@@ -305,7 +315,8 @@ double radial(const QuantityPlan& qp, QuantityId q, double r, const Smoothing& s
     double in;
     if constexpr (Pr == Precision::accurate) {
         Scaled a = scaled_accurate(r, s.h(), s.inverse());
-        a.scale = {s.scale(q), s.scale_lo(q)};
+        a.scale = accurate_scale(qp, q, s);
+        if (qp.unit_edge > 0) a.eu = unit_distance(r, s.binary_unit(), s.significand());
         in = accurate_piece(inner_piece(qp, a.q), a);
     } else {
         const Scaled a{r * s.inverse(), edge_distance(s.h() - r, s), r, s.h(), s.inverse()};
@@ -835,13 +846,17 @@ void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
 struct AccurateBlock {
     double q[B], e[B], r[B], dq2[B];
     DDs qq, ee;
-    double h, inv_h;
+    DDs eu;  // unit_distance (a unit_edge term's edge distance)
+    double h, inv_h, binary_unit, significand;
     DoubleDouble scale;
+    explicit AccurateBlock(const Smoothing& s)
+        : h(s.h()), inv_h(s.inverse()), binary_unit(s.binary_unit()), significand(s.significand()) {}
 };
 
 void distance_to_edge_block(const TermPlan& t, const AccurateBlock& a, DDs& out) {
+    const DDs& edge = t.unit_edge ? a.eu : a.ee;
     for (std::size_t i = 0; i < B; ++i) {
-        DoubleDouble d{a.ee.hi[i], a.ee.lo[i]};
+        DoubleDouble d{edge.hi[i], edge.lo[i]};
         if (t.edge != 1.0) d = interior_distance(t.edge, t.edge_lo, {a.qq.hi[i], a.qq.lo[i]});
         if (t.var != table::Var::r) {
             const DoubleDouble edge_plus_q = plus(t.edge, {a.qq.hi[i], a.qq.lo[i]});
@@ -1031,9 +1046,10 @@ MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock&
     for (int j = 0; j < N; ++j) k[j] = c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
     const SplitArgs sp = split_args(t);
     const double edge = t.edge, edge_lo = t.edge_lo;
+    const DDs& to_edge = t.unit_edge ? a.eu : a.ee;
     auto term = [&]<bool Raw>(std::size_t i) {
         return accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, Raw, Low>(
-            k, l, sp, edge, edge_lo, a.dq2[i], {a.qq.hi[i], a.qq.lo[i]}, {a.ee.hi[i], a.ee.lo[i]});
+            k, l, sp, edge, edge_lo, a.dq2[i], {a.qq.hi[i], a.qq.lo[i]}, {to_edge.hi[i], to_edge.lo[i]});
     };
     if (fold == Fold::single) {
         const DoubleDouble scale = single_scale(t, a.scale);
@@ -1046,30 +1062,39 @@ MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock&
     }
 }
 
-// A whole quantity that is one term at one radius (x: its accurate_radius).
+// A whole quantity that is one term at one radius (x: its accurate_radius),
+// its edge in units of 2^e where its shape says so (unit_edge_shape: the
+// plan sends only such quantities here; the unit: Smoothing::binary_unit, significand).
+struct Unit {
+    double binary_unit, significand;
+};
 template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split>
 MOLLIFY_INLINE double accurate_whole_at(const double* k, const double* l, const SplitArgs& sp, double edge, double edge_lo,
-                                        double h, double r, const AccurateRadius& x, const DoubleDouble& scale) {
+                                        double h, double r, const AccurateRadius& x, const DoubleDouble& scale, Unit u) {
+    constexpr bool unit = unit_edge_shape({VarR, SupportEdge, Exact, N, P, Split ? 1 : 0, 0});
+    const DoubleDouble to_edge =
+        unit ? unit_distance(r, u.binary_unit, u.significand) : DoubleDouble{x.ee_hi, x.ee_lo};
     const DoubleDouble y = accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, true>(
-        k, l, sp, edge, edge_lo, x.dq2, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
+        k, l, sp, edge, edge_lo, x.dq2, {x.qq_hi, x.qq_lo}, to_edge);
     return select(r <= h, rounded_product_bounded(y, scale), 0.0);
 }
 
 // A whole quantity that is one term (fast_whole_fixed) in one pass from r.
 template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split>
 MOLLIFY_FLATTEN bool accurate_whole_fixed(const TermPlan& t, const double* __restrict r, double* __restrict out,
-                                          std::size_t n, double h, double inv_h, DoubleDouble scale) {
+                                          std::size_t n, const Smoothing& s, DoubleDouble scale) {
     double k[N], l[N];
     const double* c = fused_coefficients(t);
     for (int j = 0; j < N; ++j) k[j] = c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
     const SplitArgs sp = split_args(t);
-    const double edge = t.edge, edge_lo = t.edge_lo;
+    const double edge = t.edge, edge_lo = t.edge_lo, h = s.h(), inv_h = s.inverse();
     const DoubleDouble whole = single_scale(t, scale);
+    const Unit u{s.binary_unit(), s.significand()};
     std::uint64_t refused = 0;
     for (std::size_t i = 0; i < n; ++i) {
         refused |= not_a_radius(r[i]);
         out[i] = accurate_whole_at<N, P, VarR, SupportEdge, Exact, Split>(k, l, sp, edge, edge_lo, h, r[i],
-                                                                          accurate_radius(r[i], h, inv_h), whole);
+                                                                          accurate_radius(r[i], h, inv_h), whole, u);
     }
     return refused != 0;
 }
@@ -1082,7 +1107,7 @@ MOLLIFY_FLATTEN bool accurate_whole_fixed(const TermPlan& t, const double* __res
 constexpr bool fused_loops = MOLLIFY_HAS_FMA;
 
 using AccurateTerm = void (*)(const TermPlan&, const AccurateBlock&, Fold, const DDs&, DDs&, double*);
-using AccurateWhole = bool (*)(const TermPlan&, const double*, double*, std::size_t, double, double, DoubleDouble);
+using AccurateWhole = bool (*)(const TermPlan&, const double*, double*, std::size_t, const Smoothing&, DoubleDouble);
 using FastWhole = bool (*)(const TermPlan&, const double*, double*, std::size_t, const Smoothing&, double);
 
 template <const TermShape& S>
@@ -1133,7 +1158,8 @@ template <Precision Pr, int VN, int VP, bool VR, bool VE, bool VX, bool VS, int 
 MOLLIFY_FLATTEN bool whole_pairs_fixed(const TermPlan& v, const TermPlan& g, const double* __restrict x0,
                                        const double* __restrict x1, const double* __restrict x2, double* __restrict w,
                                        double* __restrict g0, double* __restrict g1, double* __restrict g2, std::size_t n,
-                                       const Smoothing& smoothing) {
+                                       const Smoothing& smoothing, DoubleDouble v_accurate_scale,
+                                       DoubleDouble g_accurate_scale) {
     const Smoothing s = smoothing;
     const double h = s.h(), inv_h = s.inverse(), v_edge = v.edge, g_edge = g.edge;
     double vk[VN], vl[VN], gk[GN], gl[GN];
@@ -1143,9 +1169,10 @@ MOLLIFY_FLATTEN bool whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
     for (int j = 0; j < GN; ++j) gk[j] = gc[j], gl[j] = g.c_lo[static_cast<std::size_t>(j)];
     const SplitArgs v_sp = split_args(v), g_sp = split_args(g);
     const double v_scale = s.scale(QuantityId::value), g_scale = s.scale(QuantityId::grad_over_r);
-    // (single_scale: a split term's content joins the scale)
-    const DoubleDouble v_scale_dd = single_scale(v, {v_scale, s.scale_lo(QuantityId::value)}),
-                       g_scale_dd = single_scale(g, {g_scale, s.scale_lo(QuantityId::grad_over_r)});
+    // (single_scale: a split term's content joins the scale, which has m^-P
+    // where the edge is in units of 2^e)
+    const DoubleDouble v_scale_dd = single_scale(v, v_accurate_scale), g_scale_dd = single_scale(g, g_accurate_scale);
+    const Unit u{s.binary_unit(), s.significand()};
     return pairs_at_radii<true>(n, x0, x1, x2, w, g0, g1, g2, [&](double r) MOLLIFY_INLINE_LAMBDA {
         if constexpr (Pr == Precision::fast) {
             return std::pair{fast_whole_at<VN, VP, VR, VE>(vk, r, v_edge, h, inv_h, s, v_scale),
@@ -1153,14 +1180,14 @@ MOLLIFY_FLATTEN bool whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
         } else {
             const AccurateRadius x = accurate_radius(r, h, inv_h);
             return std::pair{
-                accurate_whole_at<VN, VP, VR, VE, VX, VS>(vk, vl, v_sp, v_edge, v.edge_lo, h, r, x, v_scale_dd),
-                accurate_whole_at<GN, GP, GR, GE, GX, GS>(gk, gl, g_sp, g_edge, g.edge_lo, h, r, x, g_scale_dd)};
+                accurate_whole_at<VN, VP, VR, VE, VX, VS>(vk, vl, v_sp, v_edge, v.edge_lo, h, r, x, v_scale_dd, u),
+                accurate_whole_at<GN, GP, GR, GE, GX, GS>(gk, gl, g_sp, g_edge, g.edge_lo, h, r, x, g_scale_dd, u)};
         }
     });
 }
 
 using WholePairs = bool (*)(const TermPlan&, const TermPlan&, const double*, const double*, const double*, double*, double*,
-                            double*, double*, std::size_t, const Smoothing&);
+                            double*, double*, std::size_t, const Smoothing&, DoubleDouble, DoubleDouble);
 
 template <Precision Pr, const WholePair& S>
 constexpr WholePairs whole_pairs_loop() {
@@ -1386,12 +1413,14 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
         for (std::size_t i = 0; i < B; ++i) out[i] = rounded_product(DoubleDouble{sum.hi[i], sum.lo[i]}, a.scale);
 }
 
-// scaled_accurate at the B radii r (a.h, a.inv_h set).
+// scaled_accurate at the B radii r, and their unit_distance.
 void fill(AccurateBlock& a, const double* r) {
     for (std::size_t i = 0; i < B; ++i) {
         const AccurateRadius x = accurate_radius(r[i], a.h, a.inv_h);
         a.q[i] = x.q, a.e[i] = x.ee_hi + x.ee_lo, a.r[i] = r[i], a.dq2[i] = x.dq2;
         a.qq.hi[i] = x.qq_hi, a.qq.lo[i] = x.qq_lo, a.ee.hi[i] = x.ee_hi, a.ee.lo[i] = x.ee_lo;
+        const DoubleDouble u = unit_distance(r[i], a.binary_unit, a.significand);
+        a.eu.hi[i] = u.hi, a.eu.lo[i] = u.lo;
     }
 }
 
@@ -1743,8 +1772,8 @@ template <Precision Pr>
 void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double* out, const Smoothing& s, int dim) {
     double in[B], piece[B];
     if constexpr (Pr == Precision::accurate) {
-        AccurateBlock a;
-        a.h = s.h(), a.inv_h = s.inverse(), a.scale = {s.scale(q), s.scale_lo(q)};
+        AccurateBlock a(s);
+        a.scale = accurate_scale(qp, q, s);
         fill(a, r);
         for (std::size_t p = 0; p < qp.inner.size(); ++p) {
             accurate_piece_block(qp.inner[p], a, p == 0 ? in : piece);
@@ -1815,9 +1844,9 @@ void radial_by_piece(const QuantityPlan& qp, QuantityId q, const double* r, doub
     sort_into_pieces<Pr>(qp, r, n, s, members);
     const double scale = s.scale(q);
     FastBlock a;
-    AccurateBlock aa;
-    a.h = aa.h = s.h(), a.inv_h = aa.inv_h = s.inverse();
-    aa.scale = {s.scale(q), s.scale_lo(q)};
+    AccurateBlock aa(s);
+    a.h = s.h(), a.inv_h = s.inverse();
+    aa.scale = accurate_scale(qp, q, s);
     double in[B], rb[B], green[B];
     for (std::size_t p = 0; p < qp.inner.size(); ++p) {
         const std::vector<std::size_t>& m = members[p];
@@ -1911,7 +1940,7 @@ bool radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
         const TermPlan& t = qp.inner.front().terms.front();
         const auto shape = static_cast<std::size_t>(qp.whole);
         if constexpr (Pr == Precision::accurate)
-            return !accurate_whole_of[shape](t, r, out, n, s.h(), s.inverse(), {s.scale(q), s.scale_lo(q)});
+            return !accurate_whole_of[shape](t, r, out, n, s, accurate_scale(qp, q, s));
         else
             return !fast_whole_of[shape](t, r, out, n, s, s.scale(q));
     }
@@ -2105,10 +2134,9 @@ void accurate_pairs_block_by_piece(const QuantityPlan& value, const QuantityPlan
                                    double* w, const std::span<double>* grad) {
     thread_local std::vector<std::vector<std::size_t>> members;
     sort_into_pieces<Precision::accurate>(value, r, m, s, members);
-    AccurateBlock a;
-    a.h = s.h(), a.inv_h = s.inverse();
-    const DoubleDouble value_scale{s.scale(QuantityId::value), s.scale_lo(QuantityId::value)},
-        over_r_scale{s.scale(QuantityId::grad_over_r), s.scale_lo(QuantityId::grad_over_r)};
+    AccurateBlock a(s);
+    const DoubleDouble value_scale = accurate_scale(value, QuantityId::value, s),
+                       over_r_scale = accurate_scale(over_r, QuantityId::grad_over_r, s);
     double wb[B], gb[B], rb[B];
     for (std::size_t p = 0; p < value.inner.size(); ++p) {
         const std::vector<std::size_t>& in = members[p];
@@ -2177,9 +2205,11 @@ bool pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         const WholePairs loop = whole_pairs_of<Pr>[static_cast<std::size_t>(plan.whole_pair)];
         const TermPlan& v = value.inner.front().terms.front();
         const TermPlan& g = over_r.inner.front().terms.front();
+        const DoubleDouble v_scale = accurate_scale(value, QuantityId::value, s),
+                           g_scale = accurate_scale(over_r, QuantityId::grad_over_r, s);
         return !in_3d(x, dim, w, grad, n, [&](const double* x0, const double* x1, const double* x2, double* wc, double* g0,
                                               double* g1, double* g2, std::size_t m) {
-            return loop(v, g, x0, x1, x2, wc, g0, g1, g2, m, s);
+            return loop(v, g, x0, x1, x2, wc, g0, g1, g2, m, s, v_scale, g_scale);
         });
     }
     if (plain && fused_loops && plan.pieces_pair >= 0) {

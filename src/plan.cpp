@@ -220,12 +220,21 @@ QuantityPlan quantity_plan(const table::Kernel& k, int q) {
         out.first = &quantity.pieces[0];
         out.spec = k.spec;
     }
-    if (out.inner.size() == 1 && out.inner.front().terms.size() == 1 && !out.inner.front().edge_series && out.zero_outside)
+    out.unit_edge = unit_edge_power(quantity);
+    if (out.unit_edge > 0) out.inner.front().terms.front().unit_edge = true;
+    if (out.inner.size() == 1 && out.inner.front().terms.size() == 1 && !out.inner.front().edge_series && out.zero_outside) {
         out.whole = shape_index(out.inner.front().terms.front(), {whole_shapes, whole_shape_count});
+        // A whole loop takes its shape's edge in units of 2^e or not
+        // (unit_edge_shape); where the quantity's own rule says otherwise
+        // (a term too large for it), the blocks.
+        if (out.whole >= 0 && unit_edge_shape(whole_shapes[static_cast<std::size_t>(out.whole)]) != (out.unit_edge > 0))
+            out.whole = -1;
+    }
     if (out.polynomial_inside && out.zero_outside) out.shared_terms = shared_terms_of(out.inner);
     out.shared_fused = shared_shapes_index(out);
     out.pieces_fused = piece_shapes_index(out);
-    out.shared_accurate = out.shared_fused >= 0;
+    // (the shared terms' accurate loops read no unit edge)
+    out.shared_accurate = out.shared_fused >= 0 && out.unit_edge == 0;
     for (const QuantityPlan::SharedTerm& m : out.shared_terms) {
         const TermPlan& t = out.inner[m.piece].terms[m.term];
         out.shared_accurate = out.shared_accurate && (t.n == 1 || !t.exact);

@@ -40,6 +40,9 @@ struct TermPlan {
     std::vector<double> m{};
     double content = 0, content_lo = 0, split_c = 0;
     bool bounded = false;  // table::bounded_term (fusable needs it)
+    // The only term of a unit_edge quantity: its edge distance is m - r 2^-e
+    // (detail::unit_distance), its quantity's scale has m^-P.
+    bool unit_edge = false;
 };
 
 struct PiecePlan {
@@ -66,6 +69,9 @@ struct QuantityPlan {
     const char* spec = nullptr;
     double log_coefficient = 0;  // 2D potentials: c of c log r outside
     int whole = -1;  // one fused term, 0 outside: its index in whole_shapes, or -1
+    // detail::unit_edge_power: P where the edge factor is taken in units of
+    // 2^e (h = m 2^e) and the scale is h^p m^-P (accurate_scale), else 0.
+    int unit_edge = 0;
     // Pieces that share terms (a combination of m radii: piece p holds the
     // terms of the radii beyond it, m(m+1)/2 in all, m distinct): each
     // distinct term once, as inner[piece].terms[term], held by the pieces

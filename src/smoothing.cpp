@@ -178,7 +178,8 @@ Smoothing::Smoothing(double h, int dim) : h_(h), dim_(dim) {
     if (dim < 1 || dim > 3) detail::fail_dimension(dim);
     if (!(h > 0) || !std::isfinite(h)) detail::fail_smoothing_length(h);
     inv_h_ = 1 / h;
-    make(every_quantity);
+    make(every_quantity);  // checks h's range first
+    make_significand();
 }
 
 Smoothing::Smoothing(double h, int dim, unsigned needed, Some) : h_(h), dim_(dim), inv_h_(1 / h) {
@@ -186,6 +187,19 @@ Smoothing::Smoothing(double h, int dim, unsigned needed, Some) : h_(h), dim_(dim
     scale_lo_.fill(std::numeric_limits<double>::quiet_NaN());
     log_h_ = std::numeric_limits<double>::quiet_NaN();
     make(needed);
+    make_significand();
+}
+
+// h = m 2^e, m in [1/2, 1) (h is normal: every_scale_within_range, or its
+// scales' check).
+void Smoothing::make_significand() {
+    int e = 0;
+    significand_ = std::frexp(h_, &e);
+    binary_unit_ = std::ldexp(1.0, -e);
+    const double y = 1 / significand_;
+    const DoubleDouble inverse = reciprocal_of<false>(significand_, y);  // detail::two_product: exact either way
+    inverse_significand_ = inverse.hi;
+    inverse_significand_lo_ = inverse.lo;
 }
 
 // The needed quantities' scales and, with the 2D potential, log h.

@@ -7,6 +7,7 @@
 // defines the others to nothing, term_shapes_end.inc undefines all.
 #pragma once
 
+#include <mollify/detail/evaluate.hpp>
 #include <mollify/table.hpp>
 
 #include <algorithm>
@@ -47,6 +48,13 @@ inline constexpr TermShape whole_shapes[] = {
 #include "term_shapes_end.inc"
     {},  // an end that matches no term (n = 0), so that an empty list is still an array
 };
+
+// Does a whole quantity's loop of this shape take its edge in units of 2^e
+// (detail::unit_edge_power's rule, the term's size aside: the plan sends a
+// whole quantity whose own rule differs to the blocks)?
+constexpr bool unit_edge_shape(const TermShape& s) {
+    return s.var_r && s.support_edge && s.low == 0 && s.edge_power >= 1 && s.edge_power <= max_unit_edge_power;
+}
 
 // The kernels' (W, W'/r) where both are whole (D = 2, 3): the pair loop
 // (W and grad W at displacements) in one pass.

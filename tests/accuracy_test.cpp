@@ -637,8 +637,91 @@ TEST(Smoothing, ScalesAreDoubleDoublePowersOfH) {
                     << "h " << h << " D" << dim << " q" << q;
                 ++checked;
             }
+            // h = m 2^e: m in [1/2, 1) and 2^-e exactly, 1/m within 2^-104
+            // (one Newton step on the exact residual), its high part rounded
+            // to nearest.
+            int e = 0;
+            const double m = std::frexp(h, &e);
+            EXPECT_EQ(s->significand(), m) << "h " << h;
+            EXPECT_EQ(s->binary_unit(), std::ldexp(1.0, -e)) << "h " << h;
+            EXPECT_EQ(s->significand() / s->binary_unit(), h) << "h " << h;
+            const Real inverse = Real(s->inverse_significand()) + Real(s->inverse_significand_lo());
+            EXPECT_LE(boost::multiprecision::abs(inverse * Real(m) - 1), Real(0x1p-104)) << "h " << h;
+            EXPECT_LE(std::abs(s->inverse_significand_lo()),
+                      0.5 * (std::nextafter(s->inverse_significand(), INFINITY) - s->inverse_significand()))
+                << "h " << h;
         }
     EXPECT_GE(checked, 250);  // most lengths are within range in every D
+}
+
+// A whole quantity of one edge-factor term (Wendland's W, W'/r, W'', the
+// spiky kernel's: detail::unit_edge_power) takes (1 - q)^P as
+// (m - r 2^-e)^P m^-P, h = m 2^e, in both forms: the hard cases of that form,
+// against MPFR, within 0.51 ulp. h with m = 1/2 (a power of two) and m one
+// ulp below 1 (the largest m^-P's and the smallest), odd h; r on the last
+// doubles inside the support (m - r 2^-e a few ulps of m), around h/2 (below
+// it m - r 2^-e is no longer exact in one rounding: its low part starts),
+// and r 2^-e below the normal doubles (h = 2^100, r = 1e-300: the product
+// underflows, W is W(0)). The hard points above hold h at powers of ten.
+TEST(HardCases, WholeQuantitiesInUnitsOfTheBinaryExponent) {
+    const double lengths[] = {1.0, 0x1p-20, 0x1.fffffffffffffp-1, 0x1.fffffffffffffp+2, 0x1.0000000000001p+3, 3.0, 1e-8,
+                              0x1p100, 0x1.fffffffffffffp+99};
+    int checked = 0, quantities = 0;
+    for (const table::Kernel* t : mollify::tables::all_kernels) {
+        std::vector<QuantityId> whole;
+        for (int q = 0; q < table::quantity_count; ++q)
+            if (mollify::detail::unit_edge_power(t->quantities[q]) > 0) whole.push_back(static_cast<QuantityId>(q));
+        if (whole.empty()) continue;
+        quantities += static_cast<int>(whole.size());
+        const acc::Reference ref(t->spec, t->dim);
+        const mollify::Kernel k = mollify::kernel(t->spec, t->dim);
+        for (const double h : lengths) {
+            std::vector<double> r = {h, h / 2, 1e-300, 0.0};
+            for (double below = h, half_up = h / 2, half_down = h / 2; r.size() < 16;) {
+                below = std::nextafter(below, 0.0), half_up = std::nextafter(half_up, h), half_down = std::nextafter(half_down, 0.0);
+                r.insert(r.end(), {below, half_up, half_down});
+            }
+            for (const double x : {1e-15, 1e-12, 1e-6, 0.3}) r.push_back(h * (1 - x));
+            const mollify::Smoothing s = k.smoothing(h);
+            for (const QuantityId q : whole) {
+                std::vector<double> got(r.size());
+                k.evaluate(q, r, s, got);
+                // W, W' and W'/r in ulps of themselves everywhere; W'' and
+                // the Hessian part as the suite measures them (Bound): below
+                // 1e-10 max |f_h| (a root, or deep at the edge, where (1 -
+                // q)^(P-2) is all) in ulps of max |f_h|.
+                const bool first = q == QuantityId::value || q == QuantityId::dr || q == QuantityId::grad_over_r;
+                const double largest = ref.max_abs(q) * std::abs(s.scale(q));
+                for (std::size_t i = 0; i < r.size(); ++i) {
+                    const Real exact = ref.value(q, r[i], h);
+                    const bool tiny = !first && boost::multiprecision::abs(exact) < tiny_fraction * largest;
+                    EXPECT_LE(tiny ? acc::scaled_error(got[i], exact, largest) : acc::ulp_error(got[i], exact), 0.51) << t->spec << " D" << t->dim << " " << mollify::quantity_names[static_cast<int>(q)]
+                                       << " r = " << r[i] << " h = " << h << " (" << std::hexfloat << r[i] << ", " << h
+                                       << std::defaultfloat << ")";
+                    // the point alone (the scalar path) as the batch
+                    EXPECT_EQ(std::bit_cast<std::uint64_t>(k(q, r[i], h)), std::bit_cast<std::uint64_t>(got[i]));
+                    ++checked;
+                }
+            }
+        }
+    }
+    // The compile-time form's pair loop on C4 at the same h: W and W'/r x.
+    using C4 = mollify::StaticKernel<mollify::tables::wendland_k_2_D3>;
+    const acc::Reference c4(C4::spec().data(), 3);
+    for (const double h : lengths) {
+        const std::vector<double> x0 = {h, std::nextafter(h, 0.0), h / 2, std::nextafter(h / 2, 0.0), 1e-300, h * (1 - 1e-12)};
+        const std::vector<double> zero(x0.size(), 0.0);
+        std::vector<double> w(x0.size()), g0(x0.size()), g1(x0.size()), g2(x0.size());
+        C4::pairs(mollify::Points<3>{x0, zero, zero}, C4::smoothing(h), w, mollify::PointsOut<3>{g0, g1, g2});
+        for (std::size_t i = 0; i < x0.size(); ++i) {
+            EXPECT_LE(acc::ulp_error(w[i], c4.value(QuantityId::value, x0[i], h)), 0.51) << "C4 W r = " << x0[i] << " h = " << h;
+            // g0 = (W'/r) x0 rounded once more: within 0.51 + 0.5 ulp
+            const Real exact_g = c4.value(QuantityId::grad_over_r, x0[i], h) * Real(x0[i]);
+            EXPECT_LE(acc::ulp_error(g0[i], exact_g), 1.01) << "C4 grad W r = " << x0[i] << " h = " << h;
+        }
+    }
+    EXPECT_GE(quantities, 20) << "too few whole quantities: the rule (detail::unit_edge_power) took none of Wendland's";
+    std::printf("[accuracy] whole quantities in units of 2^e: %d quantities, %d points\n", quantities, checked);
 }
 
 TEST(VectorForms, PairGradientAndPotentialGradientMatchExactValues) {

@@ -72,6 +72,14 @@ public:
     double scale(QuantityId q) const { return scale_[static_cast<int>(q)]; }
     double scale_lo(QuantityId q) const { return scale_lo_[static_cast<int>(q)]; }  // h^p - scale(q)
     double log_h() const { return dim_ == 2 ? log_h_ : std::log(h_); }  // kept for the 2D potential only
+    // h = m 2^e with m in [1/2, 1): m, 2^-e (exact) and 1/m as a double-double
+    // (hi + lo). Precision::accurate takes a whole Wendland-like quantity's
+    // edge factor (1 - q)^P as (m - r 2^-e)^P m^-P, whose base is exact in
+    // three operations (detail::unit_distance), where (h - r)/h needs seven.
+    double significand() const { return significand_; }
+    double binary_unit() const { return binary_unit_; }
+    double inverse_significand() const { return inverse_significand_; }
+    double inverse_significand_lo() const { return inverse_significand_lo_; }
 
     Smoothing(double h, int dim, unsigned needed, Some);  // for std::optional::emplace in kept
 
@@ -94,6 +102,8 @@ private:
     int dim_;
     double inv_h_ = 0;
     double log_h_ = 0;
+    double significand_ = 0, binary_unit_ = 0, inverse_significand_ = 0, inverse_significand_lo_ = 0;
+    void make_significand();
     std::array<double, table::quantity_count> scale_{}, scale_lo_{};
     unsigned made_ = 0;  // the quantities whose scale is made, a bit each
 };

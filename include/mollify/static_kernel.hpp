@@ -294,6 +294,10 @@ private:
         double in;
         if constexpr (Pr == Precision::accurate) {
             a.scale = {s.scale(Q), s.scale_lo(Q)};
+            if constexpr (constexpr int unit = detail::unit_edge_power(K.quantities[q]); unit > 0) {
+                a.eu = detail::unit_distance(r, s.binary_unit(), s.significand());
+                a.scale = detail::unit_edge_scale<unit>(a.scale, {s.inverse_significand(), s.inverse_significand_lo()});
+            }
             in = detail::inside<K, q, Pr, detail::inner_pieces<K, q> - 1, Level>(a);
         } else {
             in = detail::inside<K, q, Pr>(a) * s.scale(Q);

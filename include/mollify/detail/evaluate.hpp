@@ -52,6 +52,9 @@ struct Scaled {
     // correction p(v) + p'(v) dv of a polynomial in v = q^2 (in v = q: v =
     // qq.hi, dv = qq.lo).
     double dq2 = 0;
+    // Precision::accurate, a quantity of one edge-factor term (unit_edge_power):
+    // m - r 2^-e for h = m 2^e (unit_distance), its edge distance.
+    DoubleDouble eu{};
 };
 
 // x/h to double-double accuracy, for x = x.hi + x.lo near a multiple of h:
@@ -97,6 +100,48 @@ inline AccurateRadius accurate_radius(double r, double h, double inv_h) {
     const DoubleDouble e = over_h(fast_two_sum(h, -r), h, inv_h);
     const DoubleDouble square = two_product(q.hi, q.hi);
     return {q.hi, q.lo, e.hi, e.lo, q.hi + q.lo, mul_add(2 * q.hi, q.lo, square.lo)};
+}
+
+// m - r 2^-e exactly (h = m 2^e, m in [1/2, 1): Smoothing::significand,
+// binary_unit), for r <= h: r 2^-e is exact (barring underflow, below 2^-1000
+// of m), and m - r 2^-e a fast two-sum (m >= r 2^-e), three operations
+// where (h - r)/h in double-double takes seven (accurate_radius: a two-sum,
+// then a division's residual). It is h (1 - q) 2^-e = m (1 - q), so a
+// quantity's edge factor (1 - q)^P is (m - r 2^-e)^P m^-P, and m^-P joins
+// its scale once per batch (unit_edge_scale). Beyond h, where the quantity
+// is 0 and this is not read, some finite number.
+inline DoubleDouble unit_distance(double r, double binary_unit, double significand) {
+    const double d = mul_add(-r, binary_unit, significand);
+    return {d, mul_add(-r, binary_unit, significand - d)};
+}
+
+// The largest edge power taken so, and why: (m - r 2^-e)^P <= (1 - q)^P, so
+// table::term_bound still bounds the term, while the scale grows by m^-P <=
+// 2^P; rounded_product_bounded needs |x| |y| < ~2^1076, so the term's bound
+// keeps 2^P more room below 2^100 than bounded_term asks.
+inline constexpr int max_unit_edge_power = 16;
+
+// A quantity whose edge factor is taken in units of 2^e: one inner piece of
+// one term (1 - q)^P p(q) (edge 1, v = q, no power of q, Basis::one), 1 <= P
+// <= max_unit_edge_power, 0 outside: Wendland's W, W'/r, W'' and their
+// like. Its P, else 0. Both forms (src/plan.cpp: QuantityPlan::unit_edge)
+// take it from here, so the same quantities the same way.
+constexpr int unit_edge_power(const table::Quantity& q) {
+    if (q.npieces != 2 || q.pieces[0].nterms != 1 || q.pieces[1].nterms != 0) return 0;
+    const table::Term& t = q.pieces[0].terms[0];
+    if (t.edge != 1.0 || t.edge_lo != 0.0 || t.var != table::Var::r || t.basis != table::Basis::one || t.low != 0 ||
+        t.edge_power < 1 || t.edge_power > max_unit_edge_power)
+        return 0;
+    double room = 0x1p100;
+    for (int k = 0; k < t.edge_power; ++k) room /= 2;
+    return table::term_bound(t) < room ? t.edge_power : 0;
+}
+
+// h^p m^-P in double-double, the scale of such a quantity (P its
+// unit_edge_power): once per batch.
+template <int P>
+MOLLIFY_INLINE DoubleDouble unit_edge_scale(const DoubleDouble& scale, const DoubleDouble& inverse_significand) {
+    return scale * ipow<P>(inverse_significand);
 }
 
 inline Scaled scaled_accurate(double r, double h, double inv_h) {
@@ -324,6 +369,7 @@ MOLLIFY_INLINE DoubleDouble interior_distance(double edge, double edge_lo, const
 template <const table::Kernel& K, int Q, int P, int T>
 inline DoubleDouble distance_to_edge_dd(const Scaled& a) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
+    if constexpr (unit_edge_power(quantity_table<K, Q>) > 0) return a.eu;  // the scale has m^-P
     DoubleDouble d = a.ee;
     if constexpr (t.edge != 1.0) d = interior_distance(t.edge, t.edge_lo, a.qq);
     if constexpr (t.var == table::Var::r) {
