@@ -846,11 +846,13 @@ void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
 struct AccurateBlock {
     double q[B], e[B], r[B], dq2[B];
     DDs qq, ee;
-    DDs eu;  // unit_distance (a unit_edge term's edge distance)
+    DDs eu;  // unit_distance, filled where unit_edge (a unit_edge term's edge distance)
     double h, inv_h, binary_unit, significand;
     DoubleDouble scale;
-    explicit AccurateBlock(const Smoothing& s)
-        : h(s.h()), inv_h(s.inverse()), binary_unit(s.binary_unit()), significand(s.significand()) {}
+    bool unit_edge;
+    // (unit_edge: a quantity read from the block is QuantityPlan::unit_edge)
+    AccurateBlock(const Smoothing& s, bool unit_edge)
+        : h(s.h()), inv_h(s.inverse()), binary_unit(s.binary_unit()), significand(s.significand()), unit_edge(unit_edge) {}
 };
 
 void distance_to_edge_block(const TermPlan& t, const AccurateBlock& a, DDs& out) {
@@ -1413,15 +1415,18 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
         for (std::size_t i = 0; i < B; ++i) out[i] = rounded_product(DoubleDouble{sum.hi[i], sum.lo[i]}, a.scale);
 }
 
-// scaled_accurate at the B radii r, and their unit_distance.
+// scaled_accurate at the B radii r, and where a.unit_edge their unit_distance.
 void fill(AccurateBlock& a, const double* r) {
     for (std::size_t i = 0; i < B; ++i) {
         const AccurateRadius x = accurate_radius(r[i], a.h, a.inv_h);
         a.q[i] = x.q, a.e[i] = x.ee_hi + x.ee_lo, a.r[i] = r[i], a.dq2[i] = x.dq2;
         a.qq.hi[i] = x.qq_hi, a.qq.lo[i] = x.qq_lo, a.ee.hi[i] = x.ee_hi, a.ee.lo[i] = x.ee_lo;
-        const DoubleDouble u = unit_distance(r[i], a.binary_unit, a.significand);
-        a.eu.hi[i] = u.hi, a.eu.lo[i] = u.lo;
     }
+    if (a.unit_edge)
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble u = unit_distance(r[i], a.binary_unit, a.significand);
+            a.eu.hi[i] = u.hi, a.eu.lo[i] = u.lo;
+        }
 }
 
 // Precision::fast, a combination's distinct terms (QuantityPlan::
@@ -1772,7 +1777,7 @@ template <Precision Pr>
 void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double* out, const Smoothing& s, int dim) {
     double in[B], piece[B];
     if constexpr (Pr == Precision::accurate) {
-        AccurateBlock a(s);
+        AccurateBlock a(s, qp.unit_edge > 0);
         a.scale = accurate_scale(qp, q, s);
         fill(a, r);
         for (std::size_t p = 0; p < qp.inner.size(); ++p) {
@@ -1844,7 +1849,7 @@ void radial_by_piece(const QuantityPlan& qp, QuantityId q, const double* r, doub
     sort_into_pieces<Pr>(qp, r, n, s, members);
     const double scale = s.scale(q);
     FastBlock a;
-    AccurateBlock aa(s);
+    AccurateBlock aa(s, qp.unit_edge > 0);
     a.h = s.h(), a.inv_h = s.inverse();
     aa.scale = accurate_scale(qp, q, s);
     double in[B], rb[B], green[B];
@@ -2134,7 +2139,7 @@ void accurate_pairs_block_by_piece(const QuantityPlan& value, const QuantityPlan
                                    double* w, const std::span<double>* grad) {
     thread_local std::vector<std::vector<std::size_t>> members;
     sort_into_pieces<Precision::accurate>(value, r, m, s, members);
-    AccurateBlock a(s);
+    AccurateBlock a(s, value.unit_edge > 0 || over_r.unit_edge > 0);
     const DoubleDouble value_scale = accurate_scale(value, QuantityId::value, s),
                        over_r_scale = accurate_scale(over_r, QuantityId::grad_over_r, s);
     double wb[B], gb[B], rb[B];
