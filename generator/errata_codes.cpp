@@ -453,6 +453,10 @@ private:
     // SWIFT's kernel_gamma = H/h with h = 2 sigma (Dehnen & Aly 2012): gamma^2 =
     // D / (4 int |x|^2 K d^D x), a rational; a printed decimal is right when
     // gamma rounds to it: (x - u/2)^2 <= gamma^2 <= (x + u/2)^2, decided exactly.
+    // With printed.precision (SWIFT: `(float)(1.732051)`) the constant the code
+    // computes with is that decimal as a C double literal, cast: it must also be
+    // gamma correctly rounded to that precision (six decimals name a float only
+    // to ~1e-6, a float's spacing near 2 is 2.4e-7).
     // The entry's kernel (params.spec in params.dim), support 1, unit mass; Error naming the field.
     const Radial& entry_kernel(const Entry& e) {
         const std::string spec = e.param_text("spec");
@@ -485,10 +489,11 @@ private:
         std::snprintf(shown, sizeof shown, "%.*f", std::max(places, 0) + 3, sqrt_to_double(g2));
         v.published = text;
         v.exact = "sqrt(" + short_string(g2) + ") = " + shown + "...";
-        v.right = off == 0;
-        if (v.right) {
+        const std::string used = constant_off(e, text, x, g2);
+        v.right = off == 0 && used.empty();
+        if (off == 0) {
             v.ratio = "1 (to the printed digits)";
-            v.diagnosis = "right (to the printed digits)";
+            v.diagnosis = used.empty() ? "right (to the printed digits)" : "right to the printed digits; " + used;
             return;
         }
         std::snprintf(shown, sizeof shown, "%.9g", static_cast<double>(x) / sqrt_to_double(g2));
@@ -499,6 +504,29 @@ private:
                           " unit" + (units == 1 ? "" : "s") + " of its last digit off";
         else
             v.diagnosis = "support convention: gamma = H/h is not this kernel's (published/exact = " + std::string(shown) + ")";
+        if (!used.empty()) v.diagnosis += "; " + used;
+    }
+
+    // Where the entry gives printed.precision: why the constant the code
+    // computes with, the decimal `text` (value x) as a C double literal cast to
+    // that precision, is not sqrt(g2) correctly rounded to it, or "".
+    static std::string constant_off(const Entry& e, const std::string& text, const Q& x, const Q& g2) {
+        const json& printed = e.printed();
+        if (!printed.contains("precision")) return "";
+        const std::string precision = e.text(printed, "precision", "printed");
+        if (precision != "float" && precision != "double")
+            e.bad("field 'printed.precision' must be float or double, got '" + precision + "'");
+        const bool single_precision = precision == "float";
+        const double literal = round_to_double(x);
+        const double got = single_precision ? static_cast<double>(static_cast<float>(literal)) : literal;
+        const double want = single_precision ? static_cast<double>(sqrt_to_float(g2)) : sqrt_to_double(g2);
+        if (got == want) return "";
+        const double units = std::fabs(got - want) / (single_precision ? ulp_of_float(want) : ulp_of_double(want));
+        char b[256];
+        std::snprintf(b, sizeof b, "(%s)(%s) = %s is %.3g %s ulp%s from sqrt(%s) correctly rounded, %s", precision.c_str(),
+                      text.c_str(), hex_literal(got).c_str(), units, precision.c_str(), units == 1 ? "" : "s",
+                      short_string(g2).c_str(), hex_literal(want).c_str());
+        return b;
     }
 
     // A code's table of monomial coefficients as it prints them (SWIFT's
