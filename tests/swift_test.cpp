@@ -251,6 +251,12 @@ void fresh_emit(const std::string& flags, const fs::path& dir) {
     ASSERT_NO_FATAL_FAILURE(emit(flags, dir));
 }
 
+// SWIFT's gamma = sqrt(1/(4 sigma^2)) at 8192 bits; a combination with sigma = 0 takes its base
+// kernel's (write_swift.cpp).
+Real swift_gamma_of(const gen::ExactKernel& k) {
+    return sqrt(real(gen::swift_gamma(gen::variance(k) > 0 ? k : *k.base).square, 8192));
+}
+
 void check_values(const fs::path& run, bool flushes, const std::string& spec, const gen::KernelFacts& facts, int dim,
                   bool clamped, int orders, const std::vector<float>& uf, const std::vector<double>& ud,
                   const std::vector<float>& gf, const std::vector<double>& gd);
@@ -273,11 +279,7 @@ void check_kernel(const fs::path& root, const std::string& spec, int dim, bool c
         EXPECT_EQ(orders, 6);  // SWIFT's stock C2 has D_soft_1..6
     }
 
-    // gamma^2 = 1/(4 sigma^2); a combination with sigma = 0 takes its base kernel's (write_swift.cpp)
-    const gen::Q g2 = gen::swift_gamma(gen::variance(k) > 0 ? k : *k.base).square;
-    const unsigned hi = 8192;
-    const Real gamma_hi = sqrt(real(g2, hi));
-    const double gamma = static_cast<double>(gamma_hi);
+    const double gamma = static_cast<double>(swift_gamma_of(k));
     const std::vector<float> uf = hydro_points(k.W.breaks, gamma);
     const std::vector<double> ud = double_points(uf, k.W.breaks, gamma);
     std::vector<float> gf = hydro_points(k.W.breaks, 1.0);
@@ -313,9 +315,8 @@ void check_values(const fs::path& run, bool flushes, const std::string& spec, co
                   const std::vector<float>& gf, const std::vector<double>& gd) {
     const gen::ExactKernel& k = facts.kernel;
     const bool gravity = orders > 0;
-    const gen::Q g2 = gen::swift_gamma(gen::variance(k) > 0 ? k : *k.base).square;
     const unsigned hi = 8192;
-    const Real gamma_hi = sqrt(real(g2, hi));
+    const Real gamma_hi = swift_gamma_of(k);
     const double gamma = static_cast<double>(gamma_hi);
     EXPECT_EQ(slurp(run / "names.txt"), "mollify " + facts.spec + "\n" + (gravity ? "mollify " + facts.spec + "\n" : ""));
 
