@@ -5,6 +5,7 @@
 #include <charconv>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <optional>
 #include <utility>
@@ -315,6 +316,23 @@ std::string hex_literal(double x) {
     *p++ = 'x';
     const auto end = std::to_chars(p, buf + sizeof buf, std::abs(x), std::chars_format::hex).ptr;
     return std::string(buf, end);
+}
+
+std::string exact_decimal_literal(double x) {
+    if (!std::isfinite(x)) fail("internal: exact_decimal_literal of a non-finite double");
+    const std::string sign = std::signbit(x) ? "-" : "";
+    if (x == 0) return sign + "0.0";
+    // |x| = M 2^p with M odd: M 5^-p / 10^-p for p < 0, an integer otherwise
+    int e = 0;
+    auto M = static_cast<std::int64_t>(std::ldexp(std::frexp(std::abs(x), &e), 53));
+    int p = e - 53;
+    while ((M & 1) == 0) M >>= 1, ++p;
+    const Z digits = p >= 0 ? Z(Z(M) << p) : Z(Z(M) * boost::multiprecision::pow(Z(5), static_cast<unsigned>(-p)));
+    const std::string d = digits.str();
+    const int exponent = static_cast<int>(d.size()) - 1 + std::min(p, 0);
+    std::string out = sign + d.substr(0, 1) + "." + (d.size() > 1 ? d.substr(1) : "0") + "e";
+    out += (exponent < 0 ? "-" : "+") + std::string(std::abs(exponent) < 10 ? "0" : "") + std::to_string(std::abs(exponent));
+    return out;
 }
 
 std::string decimal(const Q& q, int digits) {

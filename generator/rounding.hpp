@@ -47,6 +47,12 @@ std::pair<double, double> round_to_double_double(const Evaluator& f);
 
 // C99 hexadecimal floating literal ("0x1.8p-2"), exact for every double.
 std::string hex_literal(double x);
+// The same double as a decimal literal with every digit of its exact value
+// ("3.75e-01"; up to 767 significant digits), for languages without hex
+// floats (C++ before C++17: GADGET-4 builds with -std=c++11). A literal whose
+// value is representable converts to exactly that value in every conforming
+// compiler (C++ [lex.fcon], C 6.4.4.2), so it is as exact as the hex form.
+std::string exact_decimal_literal(double x);
 
 // The most significant digits a decimal gives (every one delivered: ~400,000
 // bits for an irrational value, 0.2 s); front ends name their own option.

@@ -132,7 +132,7 @@ std::string c_piece_chain(const CodeQuantity& q, const Syntax& s, const std::str
         body += indent + "/* " + comment_text(piece.note) + " */\n";
         if (q.inside.size() > 1)
             body += indent + (p == 0 ? "" : last ? "else" : "else ") +
-                    (last ? std::string() : "if (q < " + hex_literal(q.inside[p + 1].lo) + ")") + "\n";
+                    (last ? std::string() : "if (q < " + s.literal(q.inside[p + 1].lo) + ")") + "\n";
         body += indent + "    " + target + " = " + inside_piece(s, q, p) + ";\n";
     }
     return body;

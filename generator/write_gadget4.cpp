@@ -38,7 +38,10 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     const KernelFacts& facts = tk.facts;
     const ExactKernel& k = facts.kernel;
     const std::string prefix = "mollify_g4_" + facts.id;
-    const Syntax s = c_syntax(prefix);
+    // GADGET-4 builds with -std=c++11, which has no hexadecimal floating
+    // literals (C++17): every double as its exact decimal, the hex form beside it.
+    Syntax s = c_syntax(prefix);
+    s.literal = [](double x) { return exact_decimal_literal(x); };
 
     // w = s/s(0) (GADGET-4's stock w(0) = 1) and NORM the convention's
     // separate_normalisation where s(0) is a nonzero rational; else w = s, NORM = N.
@@ -95,14 +98,18 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
                " * E_0 = g the softened 1/r (-4 pi phi, phi the kernel's exact Poisson potential), E_1 = g',\n"
                " * E_2 = g'' - g'/r, E_(n+1) = E_n' - n E_n/r (GADGET-4's gfactors fac0..fac5; 1/r, -1/r^2,\n"
                " * 3/r^3, ... outside the support h).\n";
-    out += " * Each constant is correctly rounded, its exact value beside it.\n */\n";
+    out += " * Each constant is correctly rounded, written as that double's exact decimal expansion (C++11 has\n"
+           " * no hex floats; a conforming compiler converts a representable literal exactly), its hex form\n"
+           " * and exact value beside it.\n */\n";
     out += "#ifndef " + guard + "\n#define " + guard + "\n\n#if !(" + dim_macro + ")\n#error \"" + facts.spec +
            " was generated for D = " + std::to_string(k.dim) + "\"\n#endif\n\n#include <math.h>\n\n" + c_helpers + "\n";
-    out += "#define NORM " + hex_literal(round_to_double(norm)) + " /* " + comment_text(norm.to_string()) + " */\n";
+    const double norm_value = round_to_double(norm);
+    out += "#define NORM " + s.literal(norm_value) + " /* " + hex_literal(norm_value) + ", " + comment_text(norm.to_string()) + " */\n";
     out += "#ifndef COMPUTE_WK\n#define COMPUTE_WK -1\n#define COMPUTE_WK_AND_DWK 0\n#define COMPUTE_DWK 1\n#endif\n";
     out += "static const double " + prefix + "_c[" + std::to_string(constants.size()) + "] = {\n";
     for (std::size_t i = 0; i < constants.size(); ++i)
-        out += "    " + hex_literal(constants[i].value) + ", /* [" + std::to_string(i) + "] " + comment_text(constants[i].exact) + " */\n";
+        out += "    " + s.literal(constants[i].value) + ", /* [" + std::to_string(i) + "] " + hex_literal(constants[i].value) + ", " +
+               comment_text(constants[i].exact) + " */\n";
     out += "};\n" + functions;
     out += "\nstatic inline void kernel_main(double u, double hinv3, double hinv4, double *wk, double *dwk, int mode)\n{\n"
            "    if (mode <= COMPUTE_WK_AND_DWK) *wk = NORM * hinv3 * " + prefix + "_w(u);\n"

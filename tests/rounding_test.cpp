@@ -2,6 +2,7 @@
 // N decimal digits (mollify-gen value). References are independent: exact
 // binary expansions, and pi's digits (OEIS A000796).
 #include "error.hpp"
+#include "number.hpp"
 #include "rounding.hpp"
 
 #include <gtest/gtest.h>
@@ -60,6 +61,28 @@ TEST(Rounding, TranscendentalToDouble) {
 TEST(Rounding, HexLiteralsRoundTrip) {
     for (double x : {0.0, 1.0, -0.1, 1e-300, 6.02214076e23, M_PI, std::nextafter(1.0, 0.0)})
         EXPECT_EQ(std::strtod(hex_literal(x).c_str(), nullptr), x) << hex_literal(x);
+}
+
+// exact_decimal_literal (GADGET-4's C++11 headers): every digit of the
+// double's value, so the text's own rational is the double exactly (parsed
+// here by the generator's decimal grammar, not by a compiler), and strtod
+// gives it back; signed zero, subnormals and the largest double included.
+TEST(Rounding, ExactDecimalLiteralsAreTheDoublesExactly) {
+    const std::vector<double> xs = {0.0, -0.0, 1.0, -0.1, 0.375, 1e-300, 6.02214076e23, M_PI, 0x1.abcef9018d72bp+1,
+                                    std::nextafter(1.0, 0.0), 0x1p-1074, -0x1.8p-1070, std::numeric_limits<double>::max(),
+                                    4503599627370497.0, 1e22};
+    for (double x : xs) {
+        const std::string t = exact_decimal_literal(x);
+        EXPECT_EQ(parse_rational(t, "literal"), Q(x)) << t;
+        EXPECT_EQ(std::strtod(t.c_str(), nullptr), x) << t;
+        EXPECT_EQ(std::signbit(std::strtod(t.c_str(), nullptr)), std::signbit(x)) << t;
+    }
+    EXPECT_EQ(exact_decimal_literal(0.375), "3.75e-01");
+    EXPECT_EQ(exact_decimal_literal(-2.0), "-2.0e+00");
+    EXPECT_EQ(exact_decimal_literal(1e22), "1.0000000000000000000000e+22");
+    EXPECT_EQ(exact_decimal_literal(0.1), "1.000000000000000055511151231257827021181583404541015625e-01");
+    EXPECT_EQ(exact_decimal_literal(0x1p-1074).size(), 757u);  // 2^-1074 = 4.94...e-324: 751 significant digits
+    EXPECT_THROW(exact_decimal_literal(INFINITY), Error);
 }
 
 // hex_literal is std::to_chars's hex form: the same text as printf's "%a"

@@ -8,7 +8,9 @@
  * dwk = NORM hinv4 w'(u) (hinv3 = H^-D, hinv4 = H^-(D+1), kernel_hinv); mode -1: wk only,
  * 0: both, 1: dwk only. w is the kernel's shape on support 1 with w(0) = 1, NORM the
  * exact constant making W unit-mass. Evaluated as mollify's Precision::fast (factored at the edge).
- * Each constant is correctly rounded, its exact value beside it.
+ * Each constant is correctly rounded, written as that double's exact decimal expansion (C++11 has
+ * no hex floats; a conforming compiler converts a representable literal exactly), its hex form
+ * and exact value beside it.
  */
 #ifndef MOLLIFY_G4_cubic_spline_D1_H
 #define MOLLIFY_G4_cubic_spline_D1_H
@@ -64,31 +66,31 @@ static inline double mollify_c_times_log(double x, double q, double e) { return 
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
 
-#define NORM 0x1.5555555555555p+0 /* 4/3 */
+#define NORM 1.3333333333333332593184650249895639717578887939453125e+00 /* 0x1.5555555555555p+0, 4/3 */
 #ifndef COMPUTE_WK
 #define COMPUTE_WK -1
 #define COMPUTE_WK_AND_DWK 0
 #define COMPUTE_DWK 1
 #endif
 static const double mollify_g4_cubic_spline_D1_c[8] = {
-    0x1p+0, /* [0] 1 */
-    0x0p+0, /* [1] 0 */
-    -0x1.8p+2, /* [2] -6 */
-    0x1.8p+2, /* [3] 6 */
-    0x1p+1, /* [4] 2 */
-    -0x1.8p+3, /* [5] -12 */
-    0x1.2p+4, /* [6] 18 */
-    -0x1.8p+2, /* [7] -6 */
+    1.0e+00, /* [0] 0x1p+0, 1 */
+    0.0, /* [1] 0x0p+0, 0 */
+    -6.0e+00, /* [2] -0x1.8p+2, -6 */
+    6.0e+00, /* [3] 0x1.8p+2, 6 */
+    2.0e+00, /* [4] 0x1p+1, 2 */
+    -1.2e+01, /* [5] -0x1.8p+3, -12 */
+    1.8e+01, /* [6] 0x1.2p+4, 18 */
+    -6.0e+00, /* [7] -0x1.8p+2, -6 */
 };
 
 /* w(u), W = NORM w(u) H^-D */
 static inline double mollify_g4_cubic_spline_D1_w(double q) {
     double y;
-    if (q > 1) return 0x0p+0;
+    if (q > 1) return 0.0;
     {
     const double e = 1 - q;
     /* [0, 1/2) */
-    if (q < 0x1p-1)
+    if (q < 5.0e-01)
         y = mollify_c_horner(mollify_g4_cubic_spline_D1_c + 0, 4, q);
     /* [1/2, 1) */
     else
@@ -100,11 +102,11 @@ static inline double mollify_g4_cubic_spline_D1_w(double q) {
 /* w'(u) = dw/du */
 static inline double mollify_g4_cubic_spline_D1_dw(double q) {
     double y;
-    if (q > 1) return 0x0p+0;
+    if (q > 1) return 0.0;
     {
     const double e = 1 - q;
     /* [0, 1/2) */
-    if (q < 0x1p-1)
+    if (q < 5.0e-01)
         y = mollify_c_horner(mollify_g4_cubic_spline_D1_c + 5, 2, q) * q;
     /* [1/2, 1) */
     else

@@ -12,7 +12,9 @@
  * E_0 = g the softened 1/r (-4 pi phi, phi the kernel's exact Poisson potential), E_1 = g',
  * E_2 = g'' - g'/r, E_(n+1) = E_n' - n E_n/r (GADGET-4's gfactors fac0..fac5; 1/r, -1/r^2,
  * 3/r^3, ... outside the support h).
- * Each constant is correctly rounded, its exact value beside it.
+ * Each constant is correctly rounded, written as that double's exact decimal expansion (C++11 has
+ * no hex floats; a conforming compiler converts a representable literal exactly), its hex form
+ * and exact value beside it.
  */
 #ifndef MOLLIFY_G4_cubic_spline_D3_H
 #define MOLLIFY_G4_cubic_spline_D3_H
@@ -68,85 +70,85 @@ static inline double mollify_c_times_log(double x, double q, double e) { return 
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
 
-#define NORM 0x1.45f306dc9c883p+1 /* 8 * pi^-1 */
+#define NORM 2.546479089470325529731553615420125424861907958984375e+00 /* 0x1.45f306dc9c883p+1, 8 * pi^-1 */
 #ifndef COMPUTE_WK
 #define COMPUTE_WK -1
 #define COMPUTE_WK_AND_DWK 0
 #define COMPUTE_DWK 1
 #endif
 static const double mollify_g4_cubic_spline_D3_c[62] = {
-    0x1p+0, /* [0] 1 */
-    0x0p+0, /* [1] 0 */
-    -0x1.8p+2, /* [2] -6 */
-    0x1.8p+2, /* [3] 6 */
-    0x1p+1, /* [4] 2 */
-    -0x1.8p+3, /* [5] -12 */
-    0x1.2p+4, /* [6] 18 */
-    -0x1.8p+2, /* [7] -6 */
-    0x1.3fbbbbbbbbbbcp+1, /* [8] 1199/480 */
-    -0x1.1888888888889p+1, /* [9] -263/120 */
-    -0x1.5dddddddddddep+1, /* [10] -41/15 */
-    0x1.6666666666666p+2, /* [11] 28/5 */
-    0x1.999999999999ap+0, /* [12] 8/5 */
-    -0x1.999999999999ap+2, /* [13] -32/5 */
-    0x1p+0, /* [14] 1 */
-    -0x1.1111111111111p+0, /* [15] -16/15 */
-    -0x1.1111111111111p+1, /* [16] -32/15 */
-    0x1p+0, /* [17] 1 */
-    -0x1.5555555555555p+3, /* [18] -32/3 */
-    0x0p+0, /* [19] 0 */
-    0x1.3333333333333p+5, /* [20] 192/5 */
-    -0x1p+5, /* [21] -32 */
-    -0x1.4dccccccccccdp+1, /* [22] -1669/640 */
-    -0x1.3777777777777p+0, /* [23] -73/60 */
-    0x1.0333333333333p+4, /* [24] 81/5 */
-    -0x1.3333333333333p+3, /* [25] -48/5 */
-    -0x1p+5, /* [26] -32 */
-    -0x1p+0, /* [27] -1 */
-    0x1.1111111111111p+0, /* [28] 16/15 */
-    0x1.1111111111111p+2, /* [29] 64/15 */
-    0x1.5555555555555p+3, /* [30] 32/3 */
-    -0x1p+0, /* [31] -1 */
-    0x1.3333333333333p+6, /* [32] 384/5 */
-    -0x1.8p+6, /* [33] -96 */
-    0x1.6f33333333333p+2, /* [34] 459/80 */
-    0x1.119999999999ap+4, /* [35] 171/10 */
-    -0x1.f333333333333p+4, /* [36] -156/5 */
-    -0x1.8p+6, /* [37] -96 */
-    0x1.8p+1, /* [38] 3 */
-    -0x1.999999999999ap+1, /* [39] -16/5 */
-    -0x1.3333333333333p+3, /* [40] -48/5 */
-    -0x1.3333333333333p+4, /* [41] -96/5 */
-    -0x1p+5, /* [42] -32 */
-    0x1.8p+1, /* [43] 3 */
-    -0x1.8p+6, /* [44] -96 */
-    -0x1.ep+3, /* [45] -15 */
-    0x1p+4, /* [46] 16 */
-    0x1p+5, /* [47] 32 */
-    -0x1.ep+3, /* [48] -15 */
-    0x1.8p+6, /* [49] 96 */
-    0x1.a4p+6, /* [50] 105 */
-    -0x1.cp+6, /* [51] -112 */
-    -0x1.cp+6, /* [52] -112 */
-    0x1p+5, /* [53] 32 */
-    0x1.a4p+6, /* [54] 105 */
-    -0x1.2p+8, /* [55] -288 */
-    -0x1.d88p+9, /* [56] -945 */
-    0x1.f8p+9, /* [57] 1008 */
-    0x0p+0, /* [58] 0 */
-    -0x1.68p+9, /* [59] -720 */
-    0x1.8p+6, /* [60] 96 */
-    -0x1.d88p+9, /* [61] -945 */
+    1.0e+00, /* [0] 0x1p+0, 1 */
+    0.0, /* [1] 0x0p+0, 0 */
+    -6.0e+00, /* [2] -0x1.8p+2, -6 */
+    6.0e+00, /* [3] 0x1.8p+2, 6 */
+    2.0e+00, /* [4] 0x1p+1, 2 */
+    -1.2e+01, /* [5] -0x1.8p+3, -12 */
+    1.8e+01, /* [6] 0x1.2p+4, 18 */
+    -6.0e+00, /* [7] -0x1.8p+2, -6 */
+    2.4979166666666667850904559600166976451873779296875e+00, /* [8] 0x1.3fbbbbbbbbbbcp+1, 1199/480 */
+    -2.191666666666666873908297930029220879077911376953125e+00, /* [9] -0x1.1888888888889p+1, -263/120 */
+    -2.73333333333333339254522798000834882259368896484375e+00, /* [10] -0x1.5dddddddddddep+1, -41/15 */
+    5.5999999999999996447286321199499070644378662109375e+00, /* [11] 0x1.6666666666666p+2, 28/5 */
+    1.600000000000000088817841970012523233890533447265625e+00, /* [12] 0x1.999999999999ap+0, 8/5 */
+    -6.4000000000000003552713678800500929355621337890625e+00, /* [13] -0x1.999999999999ap+2, -32/5 */
+    1.0e+00, /* [14] 0x1p+0, 1 */
+    -1.0666666666666666518636930049979127943515777587890625e+00, /* [15] -0x1.1111111111111p+0, -16/15 */
+    -2.133333333333333303727386009995825588703155517578125e+00, /* [16] -0x1.1111111111111p+1, -32/15 */
+    1.0e+00, /* [17] 0x1p+0, 1 */
+    -1.06666666666666660745477201999165117740631103515625e+01, /* [18] -0x1.5555555555555p+3, -32/3 */
+    0.0, /* [19] 0x0p+0, 0 */
+    3.839999999999999857891452847979962825775146484375e+01, /* [20] 0x1.3333333333333p+5, 192/5 */
+    -3.2e+01, /* [21] -0x1p+5, -32 */
+    -2.607812500000000088817841970012523233890533447265625e+00, /* [22] -0x1.4dccccccccccdp+1, -1669/640 */
+    -1.2166666666666665630458510349853895604610443115234375e+00, /* [23] -0x1.3777777777777p+0, -73/60 */
+    1.6199999999999999289457264239899814128875732421875e+01, /* [24] 0x1.0333333333333p+4, 81/5 */
+    -9.5999999999999996447286321199499070644378662109375e+00, /* [25] -0x1.3333333333333p+3, -48/5 */
+    -3.2e+01, /* [26] -0x1p+5, -32 */
+    -1.0e+00, /* [27] -0x1p+0, -1 */
+    1.0666666666666666518636930049979127943515777587890625e+00, /* [28] 0x1.1111111111111p+0, 16/15 */
+    4.26666666666666660745477201999165117740631103515625e+00, /* [29] 0x1.1111111111111p+2, 64/15 */
+    1.06666666666666660745477201999165117740631103515625e+01, /* [30] 0x1.5555555555555p+3, 32/3 */
+    -1.0e+00, /* [31] -0x1p+0, -1 */
+    7.67999999999999971578290569595992565155029296875e+01, /* [32] 0x1.3333333333333p+6, 384/5 */
+    -9.6e+01, /* [33] -0x1.8p+6, -96 */
+    5.73749999999999982236431605997495353221893310546875e+00, /* [34] 0x1.6f33333333333p+2, 459/80 */
+    1.710000000000000142108547152020037174224853515625e+01, /* [35] 0x1.119999999999ap+4, 171/10 */
+    -3.1199999999999999289457264239899814128875732421875e+01, /* [36] -0x1.f333333333333p+4, -156/5 */
+    -9.6e+01, /* [37] -0x1.8p+6, -96 */
+    3.0e+00, /* [38] 0x1.8p+1, 3 */
+    -3.20000000000000017763568394002504646778106689453125e+00, /* [39] -0x1.999999999999ap+1, -16/5 */
+    -9.5999999999999996447286321199499070644378662109375e+00, /* [40] -0x1.3333333333333p+3, -48/5 */
+    -1.9199999999999999289457264239899814128875732421875e+01, /* [41] -0x1.3333333333333p+4, -96/5 */
+    -3.2e+01, /* [42] -0x1p+5, -32 */
+    3.0e+00, /* [43] 0x1.8p+1, 3 */
+    -9.6e+01, /* [44] -0x1.8p+6, -96 */
+    -1.5e+01, /* [45] -0x1.ep+3, -15 */
+    1.6e+01, /* [46] 0x1p+4, 16 */
+    3.2e+01, /* [47] 0x1p+5, 32 */
+    -1.5e+01, /* [48] -0x1.ep+3, -15 */
+    9.6e+01, /* [49] 0x1.8p+6, 96 */
+    1.05e+02, /* [50] 0x1.a4p+6, 105 */
+    -1.12e+02, /* [51] -0x1.cp+6, -112 */
+    -1.12e+02, /* [52] -0x1.cp+6, -112 */
+    3.2e+01, /* [53] 0x1p+5, 32 */
+    1.05e+02, /* [54] 0x1.a4p+6, 105 */
+    -2.88e+02, /* [55] -0x1.2p+8, -288 */
+    -9.45e+02, /* [56] -0x1.d88p+9, -945 */
+    1.008e+03, /* [57] 0x1.f8p+9, 1008 */
+    0.0, /* [58] 0x0p+0, 0 */
+    -7.20e+02, /* [59] -0x1.68p+9, -720 */
+    9.6e+01, /* [60] 0x1.8p+6, 96 */
+    -9.45e+02, /* [61] -0x1.d88p+9, -945 */
 };
 
 /* w(u), W = NORM w(u) H^-D */
 static inline double mollify_g4_cubic_spline_D3_w(double q) {
     double y;
-    if (q > 1) return 0x0p+0;
+    if (q > 1) return 0.0;
     {
     const double e = 1 - q;
     /* [0, 1/2) */
-    if (q < 0x1p-1)
+    if (q < 5.0e-01)
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 0, 4, q);
     /* [1/2, 1) */
     else
@@ -158,11 +160,11 @@ static inline double mollify_g4_cubic_spline_D3_w(double q) {
 /* w'(u) = dw/du */
 static inline double mollify_g4_cubic_spline_D3_dw(double q) {
     double y;
-    if (q > 1) return 0x0p+0;
+    if (q > 1) return 0.0;
     {
     const double e = 1 - q;
     /* [0, 1/2) */
-    if (q < 0x1p-1)
+    if (q < 5.0e-01)
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 5, 2, q) * q;
     /* [1/2, 1) */
     else
@@ -180,8 +182,8 @@ static inline double mollify_g4_cubic_spline_D3_fac0(double q) {
     {
     const double e = 1 - q;
     /* [0, 1/2), Taylor polynomial about 1/4 */
-    if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 8, 6, mollify_c_shifted(r, h, 0x1p-2, 0x0p+0));
+    if (q < 5.0e-01)
+        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 8, 6, mollify_c_shifted(r, h, 2.5e-01, 0.0));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 14, 1, q * q) * mollify_c_ipow(q, -1)
@@ -199,11 +201,11 @@ static inline double mollify_g4_cubic_spline_D3_fac1(double q) {
     {
     const double e = 1 - q;
     /* [0, 1/4) */
-    if (q < 0x1p-2)
+    if (q < 2.5e-01)
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 18, 4, q) * q;
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
-    else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 22, 5, mollify_c_shifted(r, h, 0x1.8p-2, 0x0p+0));
+    else if (q < 5.0e-01)
+        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 22, 5, mollify_c_shifted(r, h, 3.75e-01, 0.0));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 27, 1, q * q) * mollify_c_ipow(q, -2)
@@ -221,11 +223,11 @@ static inline double mollify_g4_cubic_spline_D3_fac2(double q) {
     {
     const double e = 1 - q;
     /* [0, 1/4) */
-    if (q < 0x1p-2)
+    if (q < 2.5e-01)
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 32, 2, q) * mollify_c_ipow(q, 2);
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
-    else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 34, 4, mollify_c_shifted(r, h, 0x1.8p-2, 0x0p+0));
+    else if (q < 5.0e-01)
+        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 34, 4, mollify_c_shifted(r, h, 3.75e-01, 0.0));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 38, 1, q * q) * mollify_c_ipow(q, -3)
@@ -242,12 +244,12 @@ static inline double mollify_g4_cubic_spline_D3_fac3(double q) {
     {
     const double e = 1 - q;
     /* [0, 1/2) */
-    if (q < 0x1p-1)
+    if (q < 5.0e-01)
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 44, 1, q * q) * mollify_c_ipow(q, 2);
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 45, 1, q * q) * mollify_c_ipow(q, -4)
-        + mollify_c_horner(mollify_g4_cubic_spline_D3_c + 46, 2, q * q) * mollify_c_ipow(q, -4) * mollify_c_ipow((e * (0x1p+0 + q)), 2);
+        + mollify_c_horner(mollify_g4_cubic_spline_D3_c + 46, 2, q * q) * mollify_c_ipow(q, -4) * mollify_c_ipow((e * (1.0e+00 + q)), 2);
     }
     return y;
 }
@@ -260,12 +262,12 @@ static inline double mollify_g4_cubic_spline_D3_fac4(double q) {
     {
     const double e = 1 - q;
     /* [0, 1/2) */
-    if (q < 0x1p-1)
+    if (q < 5.0e-01)
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 49, 1, q * q) * q;
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 50, 1, q * q) * mollify_c_ipow(q, -5)
-        + mollify_c_horner(mollify_g4_cubic_spline_D3_c + 51, 3, q * q) * mollify_c_ipow(q, -5) * (e * (0x1p+0 + q));
+        + mollify_c_horner(mollify_g4_cubic_spline_D3_c + 51, 3, q * q) * mollify_c_ipow(q, -5) * (e * (1.0e+00 + q));
     }
     return y;
 }
@@ -277,7 +279,7 @@ static inline double mollify_g4_cubic_spline_D3_fac5(double q) {
     if (q > 1) return mollify_c_horner(mollify_g4_cubic_spline_D3_c + 61, 1, r * r) * mollify_c_ipow(r, -6);
     {
     /* [0, 1/2) */
-    if (q < 0x1p-1)
+    if (q < 5.0e-01)
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 55, 1, q * q);
     /* [1/2, 1) */
     else

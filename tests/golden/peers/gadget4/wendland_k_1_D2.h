@@ -8,7 +8,9 @@
  * dwk = NORM hinv4 w'(u) (hinv3 = H^-D, hinv4 = H^-(D+1), kernel_hinv); mode -1: wk only,
  * 0: both, 1: dwk only. w is the kernel's shape on support 1 with w(0) = 1, NORM the
  * exact constant making W unit-mass. Evaluated as mollify's Precision::fast (factored at the edge).
- * Each constant is correctly rounded, its exact value beside it.
+ * Each constant is correctly rounded, written as that double's exact decimal expansion (C++11 has
+ * no hex floats; a conforming compiler converts a representable literal exactly), its hex form
+ * and exact value beside it.
  */
 #ifndef MOLLIFY_G4_wendland_k_1_D2_H
 #define MOLLIFY_G4_wendland_k_1_D2_H
@@ -64,22 +66,22 @@ static inline double mollify_c_times_log(double x, double q, double e) { return 
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
 
-#define NORM 0x1.1d34a60108f72p+1 /* 7 * pi^-1 */
+#define NORM 2.22816920328653456095935325720347464084625244140625e+00 /* 0x1.1d34a60108f72p+1, 7 * pi^-1 */
 #ifndef COMPUTE_WK
 #define COMPUTE_WK -1
 #define COMPUTE_WK_AND_DWK 0
 #define COMPUTE_DWK 1
 #endif
 static const double mollify_g4_wendland_k_1_D2_c[3] = {
-    0x1p+0, /* [0] 1 */
-    0x1p+2, /* [1] 4 */
-    -0x1.4p+4, /* [2] -20 */
+    1.0e+00, /* [0] 0x1p+0, 1 */
+    4.0e+00, /* [1] 0x1p+2, 4 */
+    -2.0e+01, /* [2] -0x1.4p+4, -20 */
 };
 
 /* w(u), W = NORM w(u) H^-D */
 static inline double mollify_g4_wendland_k_1_D2_w(double q) {
     double y;
-    if (q > 1) return 0x0p+0;
+    if (q > 1) return 0.0;
     {
     const double e = 1 - q;
     /* [0, 1) */
@@ -91,7 +93,7 @@ static inline double mollify_g4_wendland_k_1_D2_w(double q) {
 /* w'(u) = dw/du */
 static inline double mollify_g4_wendland_k_1_D2_dw(double q) {
     double y;
-    if (q > 1) return 0x0p+0;
+    if (q > 1) return 0.0;
     {
     const double e = 1 - q;
     /* [0, 1) */

@@ -12,7 +12,9 @@
  * E_0 = g the softened 1/r (-4 pi phi, phi the kernel's exact Poisson potential), E_1 = g',
  * E_2 = g'' - g'/r, E_(n+1) = E_n' - n E_n/r (GADGET-4's gfactors fac0..fac5; 1/r, -1/r^2,
  * 3/r^3, ... outside the support h).
- * Each constant is correctly rounded, its exact value beside it.
+ * Each constant is correctly rounded, written as that double's exact decimal expansion (C++11 has
+ * no hex floats; a conforming compiler converts a representable literal exactly), its hex form
+ * and exact value beside it.
  */
 #ifndef MOLLIFY_G4_wendland_k_1_D3_H
 #define MOLLIFY_G4_wendland_k_1_D3_H
@@ -68,111 +70,111 @@ static inline double mollify_c_times_log(double x, double q, double e) { return 
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
 
-#define NORM 0x1.abcef9018d72bp+1 /* 21/2 * pi^-1 */
+#define NORM 3.342253804929801841439029885805211961269378662109375e+00 /* 0x1.abcef9018d72bp+1, 21/2 * pi^-1 */
 #ifndef COMPUTE_WK
 #define COMPUTE_WK -1
 #define COMPUTE_WK_AND_DWK 0
 #define COMPUTE_DWK 1
 #endif
 static const double mollify_g4_wendland_k_1_D3_c[92] = {
-    0x1p+0, /* [0] 1 */
-    0x1p+2, /* [1] 4 */
-    -0x1.4p+4, /* [2] -20 */
-    0x1.4f72p+1, /* [3] 42937/16384 */
-    -0x1.5368p+1, /* [4] -10861/4096 */
-    -0x1.576p+1, /* [5] -2747/1024 */
-    0x1.f1cp+2, /* [6] 1991/256 */
-    -0x1.94p+0, /* [7] -101/64 */
-    -0x1.2ep+3, /* [8] -151/16 */
-    0x1.38p+3, /* [9] 39/4 */
-    -0x1.8p+1, /* [10] -3 */
-    0x1p+0, /* [11] 1 */
-    -0x1p+0, /* [12] -1 */
-    -0x1.8p+1, /* [13] -3 */
-    -0x1.8p+1, /* [14] -3 */
-    0x1p+0, /* [15] 1 */
-    -0x1.cp+3, /* [16] -14 */
-    0x0p+0, /* [17] 0 */
-    0x1.5p+6, /* [18] 84 */
-    -0x1.18p+7, /* [19] -140 */
-    0x1.68p+6, /* [20] 90 */
-    -0x1.5p+4, /* [21] -21 */
-    -0x1.1cb8768p+1, /* [22] -37318893/16777216 */
-    -0x1.09c2f4p+3, /* [23] -4354237/524288 */
-    0x1.74315p+4, /* [24] 1524501/65536 */
-    0x1.f7dp+2, /* [25] 8061/1024 */
-    -0x1.0accp+6, /* [26] -17075/256 */
-    0x1.098p+6, /* [27] 531/8 */
-    -0x1.5p+4, /* [28] -21 */
-    -0x1.7d6bap+1, /* [29] -781149/262144 */
-    -0x1.08ap-3, /* [30] -2117/16384 */
-    0x1.19b5p+4, /* [31] 72117/4096 */
-    -0x1.596p+4, /* [32] -2763/128 */
-    -0x1.f18p+3, /* [33] -995/64 */
-    0x1.56p+5, /* [34] 171/4 */
-    -0x1.5p+4, /* [35] -21 */
-    -0x1p+0, /* [36] -1 */
-    0x1p+0, /* [37] 1 */
-    0x1.4p+2, /* [38] 5 */
-    0x1.ep+3, /* [39] 15 */
-    0x1.5p+4, /* [40] 21 */
-    -0x1p+0, /* [41] -1 */
-    0x1.5p+7, /* [42] 168 */
-    -0x1.a4p+8, /* [43] -420 */
-    0x1.68p+8, /* [44] 360 */
-    -0x1.a4p+6, /* [45] -105 */
-    0x1.c776a8p+1, /* [46] 3731157/1048576 */
-    0x1.b8be3p+4, /* [47] 1805283/65536 */
-    0x1.884p-1, /* [48] 1569/2048 */
-    -0x1.75d4p+7, /* [49] -23925/128 */
-    0x1.059p+8, /* [50] 4185/16 */
-    -0x1.a4p+6, /* [51] -105 */
-    0x1.f44a8p+2, /* [52] 256149/32768 */
-    0x1.cbc6p+3, /* [53] 58851/4096 */
-    -0x1.c0f8p+5, /* [54] -14367/256 */
-    -0x1.ba8p+4, /* [55] -885/32 */
-    0x1.464p+7, /* [56] 1305/8 */
-    -0x1.a4p+6, /* [57] -105 */
-    0x1.935p+2, /* [58] 6453/1024 */
-    -0x1.ebap+3, /* [59] -3933/256 */
-    -0x1.3ep+2, /* [60] -159/32 */
-    0x1.158p+6, /* [61] 555/8 */
-    -0x1.0ep+5, /* [62] -135/4 */
-    -0x1.a4p+6, /* [63] -105 */
-    0x1.8p+1, /* [64] 3 */
-    -0x1.a4p+8, /* [65] -420 */
-    0x1.68p+9, /* [66] 720 */
-    -0x1.3bp+8, /* [67] -315 */
-    -0x1.b52bp+4, /* [68] -111915/4096 */
-    -0x1.36c8p+6, /* [69] -9945/128 */
-    0x1.f0ep+6, /* [70] 3975/32 */
-    0x1.efp+7, /* [71] 495/2 */
-    -0x1.3bp+8, /* [72] -315 */
-    -0x1.0158p+5, /* [73] -8235/256 */
-    0x1.ab8p+5, /* [74] 855/16 */
-    0x1.11cp+7, /* [75] 1095/8 */
-    -0x1.c2p+7, /* [76] -225 */
-    -0x1.3bp+8, /* [77] -315 */
-    -0x1.ep+3, /* [78] -15 */
-    0x1.a4p+8, /* [79] 420 */
-    -0x1.3bp+8, /* [80] -315 */
-    0x1.6c38p+7, /* [81] 11655/64 */
-    -0x1.be4p+6, /* [82] -1785/16 */
-    -0x1.626p+9, /* [83] -2835/4 */
-    -0x1.3bp+8, /* [84] -315 */
-    0x1.a4p+6, /* [85] 105 */
-    -0x1.3bp+10, /* [86] -1260 */
-    0x1.3bp+8, /* [87] 315 */
-    -0x1.0eb4p+10, /* [88] -17325/16 */
-    0x1.d88p+8, /* [89] 945/2 */
-    0x1.3bp+8, /* [90] 315 */
-    -0x1.d88p+9, /* [91] -945 */
+    1.0e+00, /* [0] 0x1p+0, 1 */
+    4.0e+00, /* [1] 0x1p+2, 4 */
+    -2.0e+01, /* [2] -0x1.4p+4, -20 */
+    2.62066650390625e+00, /* [3] 0x1.4f72p+1, 42937/16384 */
+    -2.651611328125e+00, /* [4] -0x1.5368p+1, -10861/4096 */
+    -2.6826171875e+00, /* [5] -0x1.576p+1, -2747/1024 */
+    7.77734375e+00, /* [6] 0x1.f1cp+2, 1991/256 */
+    -1.578125e+00, /* [7] -0x1.94p+0, -101/64 */
+    -9.4375e+00, /* [8] -0x1.2ep+3, -151/16 */
+    9.75e+00, /* [9] 0x1.38p+3, 39/4 */
+    -3.0e+00, /* [10] -0x1.8p+1, -3 */
+    1.0e+00, /* [11] 0x1p+0, 1 */
+    -1.0e+00, /* [12] -0x1p+0, -1 */
+    -3.0e+00, /* [13] -0x1.8p+1, -3 */
+    -3.0e+00, /* [14] -0x1.8p+1, -3 */
+    1.0e+00, /* [15] 0x1p+0, 1 */
+    -1.4e+01, /* [16] -0x1.cp+3, -14 */
+    0.0, /* [17] 0x0p+0, 0 */
+    8.4e+01, /* [18] 0x1.5p+6, 84 */
+    -1.40e+02, /* [19] -0x1.18p+7, -140 */
+    9.0e+01, /* [20] 0x1.68p+6, 90 */
+    -2.1e+01, /* [21] -0x1.5p+4, -21 */
+    -2.224379360675811767578125e+00, /* [22] -0x1.1cb8768p+1, -37318893/16777216 */
+    -8.3050479888916015625e+00, /* [23] -0x1.09c2f4p+3, -4354237/524288 */
+    2.32620391845703125e+01, /* [24] 0x1.74315p+4, 1524501/65536 */
+    7.8720703125e+00, /* [25] 0x1.f7dp+2, 8061/1024 */
+    -6.669921875e+01, /* [26] -0x1.0accp+6, -17075/256 */
+    6.6375e+01, /* [27] 0x1.098p+6, 531/8 */
+    -2.1e+01, /* [28] -0x1.5p+4, -21 */
+    -2.979846954345703125e+00, /* [29] -0x1.7d6bap+1, -781149/262144 */
+    -1.2921142578125e-01, /* [30] -0x1.08ap-3, -2117/16384 */
+    1.7606689453125e+01, /* [31] 0x1.19b5p+4, 72117/4096 */
+    -2.15859375e+01, /* [32] -0x1.596p+4, -2763/128 */
+    -1.5546875e+01, /* [33] -0x1.f18p+3, -995/64 */
+    4.275e+01, /* [34] 0x1.56p+5, 171/4 */
+    -2.1e+01, /* [35] -0x1.5p+4, -21 */
+    -1.0e+00, /* [36] -0x1p+0, -1 */
+    1.0e+00, /* [37] 0x1p+0, 1 */
+    5.0e+00, /* [38] 0x1.4p+2, 5 */
+    1.5e+01, /* [39] 0x1.ep+3, 15 */
+    2.1e+01, /* [40] 0x1.5p+4, 21 */
+    -1.0e+00, /* [41] -0x1p+0, -1 */
+    1.68e+02, /* [42] 0x1.5p+7, 168 */
+    -4.20e+02, /* [43] -0x1.a4p+8, -420 */
+    3.60e+02, /* [44] 0x1.68p+8, 360 */
+    -1.05e+02, /* [45] -0x1.a4p+6, -105 */
+    3.55830860137939453125e+00, /* [46] 0x1.c776a8p+1, 3731157/1048576 */
+    2.75464324951171875e+01, /* [47] 0x1.b8be3p+4, 1805283/65536 */
+    7.6611328125e-01, /* [48] 0x1.884p-1, 1569/2048 */
+    -1.869140625e+02, /* [49] -0x1.75d4p+7, -23925/128 */
+    2.615625e+02, /* [50] 0x1.059p+8, 4185/16 */
+    -1.05e+02, /* [51] -0x1.a4p+6, -105 */
+    7.817047119140625e+00, /* [52] 0x1.f44a8p+2, 256149/32768 */
+    1.4367919921875e+01, /* [53] 0x1.cbc6p+3, 58851/4096 */
+    -5.612109375e+01, /* [54] -0x1.c0f8p+5, -14367/256 */
+    -2.765625e+01, /* [55] -0x1.ba8p+4, -885/32 */
+    1.63125e+02, /* [56] 0x1.464p+7, 1305/8 */
+    -1.05e+02, /* [57] -0x1.a4p+6, -105 */
+    6.3017578125e+00, /* [58] 0x1.935p+2, 6453/1024 */
+    -1.536328125e+01, /* [59] -0x1.ebap+3, -3933/256 */
+    -4.96875e+00, /* [60] -0x1.3ep+2, -159/32 */
+    6.9375e+01, /* [61] 0x1.158p+6, 555/8 */
+    -3.375e+01, /* [62] -0x1.0ep+5, -135/4 */
+    -1.05e+02, /* [63] -0x1.a4p+6, -105 */
+    3.0e+00, /* [64] 0x1.8p+1, 3 */
+    -4.20e+02, /* [65] -0x1.a4p+8, -420 */
+    7.20e+02, /* [66] 0x1.68p+9, 720 */
+    -3.15e+02, /* [67] -0x1.3bp+8, -315 */
+    -2.7322998046875e+01, /* [68] -0x1.b52bp+4, -111915/4096 */
+    -7.76953125e+01, /* [69] -0x1.36c8p+6, -9945/128 */
+    1.2421875e+02, /* [70] 0x1.f0ep+6, 3975/32 */
+    2.475e+02, /* [71] 0x1.efp+7, 495/2 */
+    -3.15e+02, /* [72] -0x1.3bp+8, -315 */
+    -3.216796875e+01, /* [73] -0x1.0158p+5, -8235/256 */
+    5.34375e+01, /* [74] 0x1.ab8p+5, 855/16 */
+    1.36875e+02, /* [75] 0x1.11cp+7, 1095/8 */
+    -2.25e+02, /* [76] -0x1.c2p+7, -225 */
+    -3.15e+02, /* [77] -0x1.3bp+8, -315 */
+    -1.5e+01, /* [78] -0x1.ep+3, -15 */
+    4.20e+02, /* [79] 0x1.a4p+8, 420 */
+    -3.15e+02, /* [80] -0x1.3bp+8, -315 */
+    1.82109375e+02, /* [81] 0x1.6c38p+7, 11655/64 */
+    -1.115625e+02, /* [82] -0x1.be4p+6, -1785/16 */
+    -7.0875e+02, /* [83] -0x1.626p+9, -2835/4 */
+    -3.15e+02, /* [84] -0x1.3bp+8, -315 */
+    1.05e+02, /* [85] 0x1.a4p+6, 105 */
+    -1.260e+03, /* [86] -0x1.3bp+10, -1260 */
+    3.15e+02, /* [87] 0x1.3bp+8, 315 */
+    -1.0828125e+03, /* [88] -0x1.0eb4p+10, -17325/16 */
+    4.725e+02, /* [89] 0x1.d88p+8, 945/2 */
+    3.15e+02, /* [90] 0x1.3bp+8, 315 */
+    -9.45e+02, /* [91] -0x1.d88p+9, -945 */
 };
 
 /* w(u), W = NORM w(u) H^-D */
 static inline double mollify_g4_wendland_k_1_D3_w(double q) {
     double y;
-    if (q > 1) return 0x0p+0;
+    if (q > 1) return 0.0;
     {
     const double e = 1 - q;
     /* [0, 1) */
@@ -184,7 +186,7 @@ static inline double mollify_g4_wendland_k_1_D3_w(double q) {
 /* w'(u) = dw/du */
 static inline double mollify_g4_wendland_k_1_D3_dw(double q) {
     double y;
-    if (q > 1) return 0x0p+0;
+    if (q > 1) return 0.0;
     {
     const double e = 1 - q;
     /* [0, 1) */
@@ -202,8 +204,8 @@ static inline double mollify_g4_wendland_k_1_D3_fac0(double q) {
     {
     const double e = 1 - q;
     /* [0, 1/2), Taylor polynomial about 1/4 */
-    if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 3, 8, mollify_c_shifted(r, h, 0x1p-2, 0x0p+0));
+    if (q < 5.0e-01)
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 3, 8, mollify_c_shifted(r, h, 2.5e-01, 0.0));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 11, 1, q * q) * mollify_c_ipow(q, -1)
@@ -221,14 +223,14 @@ static inline double mollify_g4_wendland_k_1_D3_fac1(double q) {
     {
     const double e = 1 - q;
     /* [0, 1/8) */
-    if (q < 0x1p-3)
+    if (q < 1.25e-01)
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 16, 6, q) * q;
     /* [1/8, 1/4), Taylor polynomial about 3/16 */
-    else if (q < 0x1p-2)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 22, 7, mollify_c_shifted(r, h, 0x1.8p-3, 0x0p+0));
+    else if (q < 2.5e-01)
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 22, 7, mollify_c_shifted(r, h, 1.875e-01, 0.0));
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
-    else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 29, 7, mollify_c_shifted(r, h, 0x1.8p-2, 0x0p+0));
+    else if (q < 5.0e-01)
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 29, 7, mollify_c_shifted(r, h, 3.75e-01, 0.0));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 36, 1, q * q) * mollify_c_ipow(q, -2)
@@ -245,17 +247,17 @@ static inline double mollify_g4_wendland_k_1_D3_fac2(double q) {
     if (q > 1) return mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 64, 1, r * r) * mollify_c_ipow(r, -3);
     {
     /* [0, 1/8) */
-    if (q < 0x1p-3)
+    if (q < 1.25e-01)
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 42, 4, q) * mollify_c_ipow(q, 2);
     /* [1/8, 1/4), Taylor polynomial about 3/16 */
-    else if (q < 0x1p-2)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 46, 6, mollify_c_shifted(r, h, 0x1.8p-3, 0x0p+0));
+    else if (q < 2.5e-01)
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 46, 6, mollify_c_shifted(r, h, 1.875e-01, 0.0));
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
-    else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 52, 6, mollify_c_shifted(r, h, 0x1.8p-2, 0x0p+0));
+    else if (q < 5.0e-01)
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 52, 6, mollify_c_shifted(r, h, 3.75e-01, 0.0));
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 58, 6, mollify_c_shifted(r, h, 0x1.8p-1, 0x0p+0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 58, 6, mollify_c_shifted(r, h, 7.5e-01, 0.0));
     }
     return y;
 }
@@ -268,14 +270,14 @@ static inline double mollify_g4_wendland_k_1_D3_fac3(double q) {
     if (q > 1) return mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 78, 1, r * r) * mollify_c_ipow(r, -4);
     {
     /* [0, 1/4) */
-    if (q < 0x1p-2)
+    if (q < 2.5e-01)
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 65, 3, q) * mollify_c_ipow(q, 2);
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
-    else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 68, 5, mollify_c_shifted(r, h, 0x1.8p-2, 0x0p+0));
+    else if (q < 5.0e-01)
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 68, 5, mollify_c_shifted(r, h, 3.75e-01, 0.0));
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 73, 5, mollify_c_shifted(r, h, 0x1.8p-1, 0x0p+0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 73, 5, mollify_c_shifted(r, h, 7.5e-01, 0.0));
     }
     return y;
 }
@@ -288,11 +290,11 @@ static inline double mollify_g4_wendland_k_1_D3_fac4(double q) {
     if (q > 1) return mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 85, 1, r * r) * mollify_c_ipow(r, -5);
     {
     /* [0, 1/2) */
-    if (q < 0x1p-1)
+    if (q < 5.0e-01)
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 79, 2, q * q) * q;
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 81, 4, mollify_c_shifted(r, h, 0x1.8p-1, 0x0p+0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 81, 4, mollify_c_shifted(r, h, 7.5e-01, 0.0));
     }
     return y;
 }
@@ -305,11 +307,11 @@ static inline double mollify_g4_wendland_k_1_D3_fac5(double q) {
     if (q > 1) return mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 91, 1, r * r) * mollify_c_ipow(r, -6);
     {
     /* [0, 1/2) */
-    if (q < 0x1p-1)
+    if (q < 5.0e-01)
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 86, 2, q * q);
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 88, 3, mollify_c_shifted(r, h, 0x1.8p-1, 0x0p+0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 88, 3, mollify_c_shifted(r, h, 7.5e-01, 0.0));
     }
     return y;
 }
