@@ -507,21 +507,33 @@ private:
         if (!used.empty()) v.diagnosis += "; " + used;
     }
 
+    // printed.precision: the precision a code computes a printed constant in,
+    // "float" or "double"; Error naming the field otherwise.
+    static std::string printed_precision(const Entry& e) {
+        const std::string precision = e.text(e.printed(), "precision", "printed");
+        if (precision != "float" && precision != "double")
+            e.bad("field 'printed.precision' must be float or double, got '" + precision + "'");
+        return precision;
+    }
+
+    // How many units in the last place of `want` (a float's where single) got is from it.
+    static double ulps_apart(double got, double want, bool single_precision) {
+        return std::fabs(got - want) / (single_precision ? ulp_of_float(want) : ulp_of_double(want));
+    }
+
     // Where the entry gives printed.precision: why the constant the code
     // computes with, the decimal `text` (value x) as a C double literal cast to
     // that precision, is not sqrt(g2) correctly rounded to it, or "".
     static std::string constant_off(const Entry& e, const std::string& text, const Q& x, const Q& g2) {
         const json& printed = e.printed();
         if (!printed.contains("precision")) return "";
-        const std::string precision = e.text(printed, "precision", "printed");
-        if (precision != "float" && precision != "double")
-            e.bad("field 'printed.precision' must be float or double, got '" + precision + "'");
+        const std::string precision = printed_precision(e);
         const bool single_precision = precision == "float";
         const double literal = round_to_double(x);
         const double got = single_precision ? static_cast<double>(static_cast<float>(literal)) : literal;
         const double want = single_precision ? static_cast<double>(sqrt_to_float(g2)) : sqrt_to_double(g2);
         if (got == want) return "";
-        const double units = std::fabs(got - want) / (single_precision ? ulp_of_float(want) : ulp_of_double(want));
+        const double units = ulps_apart(got, want, single_precision);
         char b[256];
         std::snprintf(b, sizeof b, "(%s)(%s) = %s is %.3g %s ulp%s from sqrt(%s) correctly rounded, %s", precision.c_str(),
                       text.c_str(), hex_literal(got).c_str(), units, precision.c_str(), units == 1 ? "" : "s",
@@ -540,9 +552,7 @@ private:
         const json& printed = e.printed();
         const PiQ c{e.rational(printed, "constant", "printed"), e.integer(printed, "pi_power", "printed")};
         if (c.q == 0) e.bad("field 'printed.constant' is 0");
-        const std::string precision = e.text(printed, "precision", "printed");
-        if (precision != "float" && precision != "double")
-            e.bad("field 'printed.precision' must be float or double, got '" + precision + "'");
+        const std::string precision = printed_precision(e);
         const json& pieces = e.need(printed, "pieces", "printed");
         if (!pieces.is_array() || pieces.empty()) e.bad("field 'printed.pieces' must be a non-empty array");
         int literals = 0;
@@ -602,10 +612,9 @@ private:
         const double got = single_precision ? round_to_float(literal) : round_to_double(Exact(literal));
         const double want = single_precision ? round_to_float(exact) : round_to_double(Exact(exact));
         if (got == want) return std::nullopt;
-        const double unit = single_precision ? ulp_of_float(want) : ulp_of_double(want);
         char b[224];
         std::snprintf(b, sizeof b, "%s, exact %s = %.12g, %.3g %s ulps off (relative %.2g)", text.c_str(),
-                      short_string(exact).c_str(), static_cast<double>(exact), std::fabs(got - want) / unit,
+                      short_string(exact).c_str(), static_cast<double>(exact), ulps_apart(got, want, single_precision),
                       precision.c_str(), exact == 0 ? 0.0 : static_cast<double>((literal - exact) / exact));
         return std::string(b);
     }

@@ -41,7 +41,7 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     // GADGET-4 builds with -std=c++11, which has no hexadecimal floating
     // literals (C++17): every double as its exact decimal, the hex form beside it.
     Syntax s = c_syntax(prefix);
-    s.literal = [](double x) { return exact_decimal_literal(x); };
+    s.literal = exact_decimal_literal;
 
     // w = s/s(0) (GADGET-4's stock w(0) = 1) and NORM the convention's
     // separate_normalisation where s(0) is a nonzero rational; else w = s, NORM = N.
