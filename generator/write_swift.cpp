@@ -247,8 +247,10 @@ std::string hydro_file(const TargetKernel& tk, const std::string& command) {
            expanded_layout_loss(k) + ".\n"
            " * Signs: " + comment_text(signs.note) + "\n"
            " * Not given: kernel_degree, kernel_ivals, kernel_coeffs (SWIFT's table layout, read only inside its stock\n"
-           " * kernel_hydro.h), the SIMD functions (WITH_VECTORIZATION, WITH_OLD_VECTORIZATION: an #error; configure\n"
-           " * SWIFT with --disable-vec), potential_dh (stock: Wendland C2 only).\n"
+           " * kernel_hydro.h), the SIMD functions kernel_*_vec (called only by SWIFT's hand-vectorised GADGET-2 SPH\n"
+           " * loops, runner_doiact_hydro_vec.c: with GADGET2_SPH and WITH_VECTORIZATION an #error; configure SWIFT\n"
+           " * with --disable-hand-vec there, as its stock file demands for kernels other than C2 and the cubic;\n"
+           " * every other scheme builds with SWIFT's default vectorisation), potential_dh (stock: Wendland C2 only).\n"
            " * Each constant is correctly rounded (float where SWIFT uses float), its exact value beside it.\n"
            " * Outside SWIFT define MOLLIFY_SWIFT_STANDALONE (and " + dim_macro + "): no SWIFT headers are included.\n */\n";
     out += "#ifndef SWIFT_KERNEL_HYDRO_H\n#define SWIFT_KERNEL_HYDRO_H\n\n";
@@ -256,8 +258,9 @@ std::string hydro_file(const TargetKernel& tk, const std::string& command) {
            "#include <config.h>\n#endif\n#include <math.h>\n#ifndef MOLLIFY_SWIFT_STANDALONE\n#include \"dimension.h\"\n"
            "#include \"error.h\"\n#include \"inline.h\"\n#include \"minmax.h\"\n#include \"vector.h\"\n#endif\n\n";
     out += "#if !defined(" + dim_macro + ")\n#error \"" + facts.spec + " was generated for " + dim_macro + "\"\n#endif\n";
-    out += "#if defined(WITH_VECTORIZATION) || defined(WITH_OLD_VECTORIZATION)\n#error \"mollify's kernel_hydro.h has no SIMD "
-           "functions: configure SWIFT with --disable-vec\"\n#endif\n\n";
+    out += "#if defined(WITH_OLD_VECTORIZATION) || (defined(WITH_VECTORIZATION) && defined(GADGET2_SPH))\n#error \"mollify's "
+           "kernel_hydro.h has no SIMD kernel functions, which the GADGET-2 SPH scheme's hand-vectorised loops call: "
+           "configure SWIFT with --disable-hand-vec\"\n#endif\n\n";
     out += "#define kernel_name \"mollify " + facts.spec + "\"\n";
     out += float_define("kernel_gamma", gamma_power(g2, 1));
     out += float_define("kernel_gamma_inv", gamma_power(g2, -1));

@@ -24,8 +24,10 @@
  *   hence the factored form here.
  * Signs: W >= 0 and dW/du <= 0 on the whole support (proved exactly: Bernstein coefficients of every piece), so SWIFT's clamps max(W, 0), min(dW, 0) are kept and change nothing.
  * Not given: kernel_degree, kernel_ivals, kernel_coeffs (SWIFT's table layout, read only inside its stock
- * kernel_hydro.h), the SIMD functions (WITH_VECTORIZATION, WITH_OLD_VECTORIZATION: an #error; configure
- * SWIFT with --disable-vec), potential_dh (stock: Wendland C2 only).
+ * kernel_hydro.h), the SIMD functions kernel_*_vec (called only by SWIFT's hand-vectorised GADGET-2 SPH
+ * loops, runner_doiact_hydro_vec.c: with GADGET2_SPH and WITH_VECTORIZATION an #error; configure SWIFT
+ * with --disable-hand-vec there, as its stock file demands for kernels other than C2 and the cubic;
+ * every other scheme builds with SWIFT's default vectorisation), potential_dh (stock: Wendland C2 only).
  * Each constant is correctly rounded (float where SWIFT uses float), its exact value beside it.
  * Outside SWIFT define MOLLIFY_SWIFT_STANDALONE (and HYDRO_DIMENSION_3D): no SWIFT headers are included.
  */
@@ -48,8 +50,8 @@
 #if !defined(HYDRO_DIMENSION_3D)
 #error "wendland:k=1 was generated for HYDRO_DIMENSION_3D"
 #endif
-#if defined(WITH_VECTORIZATION) || defined(WITH_OLD_VECTORIZATION)
-#error "mollify's kernel_hydro.h has no SIMD functions: configure SWIFT with --disable-vec"
+#if defined(WITH_OLD_VECTORIZATION) || (defined(WITH_VECTORIZATION) && defined(GADGET2_SPH))
+#error "mollify's kernel_hydro.h has no SIMD kernel functions, which the GADGET-2 SPH scheme's hand-vectorised loops call: configure SWIFT with --disable-hand-vec"
 #endif
 
 #define kernel_name "mollify wendland:k=1"
