@@ -144,6 +144,14 @@ const Convention& convention(const std::string& target) {
 }
 
 double sqrt_to_double(const Q& x) { return sqrt_rounded<double>(x); }
+
+std::string sqrt_text(const Q& x) {
+    using boost::multiprecision::mpz_int;
+    const mpz_int n = numerator(x), d = denominator(x);
+    const mpz_int rn = sqrt(n), rd = sqrt(d);
+    if (x >= 0 && rn * rn == n && rd * rd == d) return short_string(Q(rn, rd));
+    return "sqrt(" + short_string(x) + ")";
+}
 float sqrt_to_float(const Q& x) { return sqrt_rounded<float>(x); }
 
 Q variance(const ExactKernel& k) {
@@ -165,6 +173,23 @@ DerivedConstant swift_gamma(const ExactKernel& k) {
 }
 
 DerivedConstant phantom_hfact(const ExactKernel& k) {
+    // Phantom's own hfact_default for the kernels it ships (peers.md, "Phantom":
+    // its kernel_<NAME>.f90): a file that replaces one keeps its h, as radkern.
+    struct Stock {
+        const char* spec;
+        Q hfact;
+        const char* file;
+    };
+    static const Stock stock[] = {
+        {"cubic-spline", Q(6, 5), "kernel_cubic.f90"},         {"quartic-spline", Q(11, 10), "kernel_quartic.f90"},
+        {"quintic-spline", Q(1), "kernel_quintic.f90"},        {"wendland:k=1", Q(13, 10), "kernel_WendlandC2.f90"},
+        {"wendland:k=2", Q(3, 2), "kernel_WendlandC4.f90"},    {"wendland:k=3", Q(8, 5), "kernel_WendlandC6.f90"},
+    };
+    for (const Stock& st : stock)
+        if (k.dim == 3 && make_kernel(parse_spec(st.spec), 3).W == k.W)
+            return {"hfact_default", st.hfact * st.hfact, sqrt_to_double(st.hfact * st.hfact), sqrt_to_float(st.hfact * st.hfact),
+                    "hfact = " + short_string(st.hfact) + ", Phantom's own in its " + st.file +
+                        " (the file replaces it with the same h, as radkern)"};
     const Convention& p = convention("phantom");
     // Phantom's stock cubic spline: radkern 2, hfact 1.2 (peers.md, Phantom).
     const Q reference_hfact = Q(6) / Q(5), reference_radkern = Q(2);
@@ -172,9 +197,11 @@ DerivedConstant phantom_hfact(const ExactKernel& k) {
     const Q s = variance(k), sc = variance(cubic);
     const Q radkern = support_multiple(p, k);
     const Q h2 = reference_hfact * reference_hfact * reference_radkern * reference_radkern * sc / (radkern * radkern * s);
-    return {"hfact_default", h2, sqrt_to_double(h2), sqrt_to_float(h2),
-            "hfact = 1.2 (2 sigma_cubic) / (radkern sigma), sigma^2 = (1/D) int |x|^2 W on support 1: " +
-                short_string(s) + " (cubic " + short_string(sc) + ")"};
+    const std::string rule = "hfact = 1.2 (2 sigma_cubic) / (radkern sigma), sigma^2 = (1/D) int |x|^2 W on support 1: " +
+                             short_string(s) + " (cubic " + short_string(sc) + ")";
+    // Phantom's checksetup refuses hfact < 1 (src/main/checksetup.f90): its floor
+    if (h2 < Q(1)) return {"hfact_default", Q(1), 1.0, 1.0f, rule + " would give sqrt(" + short_string(h2) + ") < 1, Phantom's floor: 1"};
+    return {"hfact_default", h2, sqrt_to_double(h2), sqrt_to_float(h2), rule};
 }
 
 Exact separate_normalisation(const Convention& c, const ExactKernel& k) {

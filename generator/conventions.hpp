@@ -85,6 +85,9 @@ struct DerivedConstant {
 // squares of d's neighbouring midpoints.
 double sqrt_to_double(const Q& x);
 float sqrt_to_float(const Q& x);
+// sqrt(x) as text for a comment: the rational root where x is a rational
+// square ("13/10" for 169/100), else "sqrt(x)".
+std::string sqrt_text(const Q& x);
 
 // sigma^2 = (1/D) int |x|^2 W d^D x: the per-dimension variance of the
 // (unit-mass, support 1) kernel, exactly (rational for every kernel of the
@@ -92,11 +95,15 @@ float sqrt_to_float(const Q& x);
 Q variance(const ExactKernel& k);
 // SWIFT's gamma = H / (2 sigma) (H = 1): gamma^2 = 1 / (4 sigma^2).
 DerivedConstant swift_gamma(const ExactKernel& k);
-// Phantom's hfact_default: the one at which the kernel's standard deviation,
-// in units of the mean particle spacing, equals that of Phantom's cubic
-// spline (radkern 2) at hfact 1.2 (Dehnen & Aly's equal resolution; it gives
-// the stock C2 1.27, C4 1.45, C6 1.61 against Phantom's rounded 1.3, 1.5,
-// 1.6): hfact = 1.2 (radkern_cubic sigma_cubic) / (radkern sigma).
+// Phantom's hfact_default: for the six kernels Phantom ships (cubic,
+// quartic, quintic spline, Wendland C2, C4, C6), its own (1.2, 1.1, 1.0, 1.3,
+// 1.5, 1.6: a file that replaces the stock one keeps its h, as radkern);
+// for the others the one at which the kernel's standard deviation, in units
+// of the mean particle spacing, equals that of Phantom's cubic spline
+// (radkern 2) at hfact 1.2 (Dehnen & Aly's equal resolution; it would give
+// C2 1.27, C4 1.45, C6 1.61, the quintic 0.96): hfact = 1.2 (radkern_cubic
+// sigma_cubic) / (radkern sigma), and at least 1, which Phantom's checksetup
+// demands (mollifier:M=1 and M=2: 0.87 and 0.99 by the rule).
 DerivedConstant phantom_hfact(const ExactKernel& k);
 // H/h of SupportRule::support and fixed_multiple for kernel k: the
 // convention's support_in_h, or its own_multiples entry for k's family

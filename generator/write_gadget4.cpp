@@ -70,9 +70,12 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     names.push_back({prefix + "_dw", "w'(u) = dw/du"});
     const bool gravity = k.dim == 3 && quantity_of(facts, static_cast<int>(table::QuantityId::potential)) != nullptr;
     int finite = -1;  // fac0..fac<finite> have finite limits at r = 0
+    Exact plummer;    // h / eps of the Plummer-equivalent softening, E_0(0)
+    std::string plummer_name = "MOLLIFY_G4_" + facts.id + "_PLUMMER";
     if (gravity) {
         const std::vector<Radial> g = gadget_gfactors(k, max_gfactor);
         finite = finite_at_origin(g);
+        if (finite >= 0) plummer = value_at(g[0].pieces.front(), Q(0));  // g(0) = E_0(0)/h = 1/eps
         for (std::size_t n = 0; static_cast<int>(n) <= finite; ++n) {
             rounded.push_back(round_or_fail(g[n], true, {}, "fac" + std::to_string(n)));
             names.push_back({prefix + "_fac" + std::to_string(n), "E_" + std::to_string(n) + "(u), fac" + std::to_string(n) +
@@ -97,23 +100,21 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
         out += " * Softening (3D): " + prefix + "_gfactors(r, h, fac) gives fac[n] = h^-(n+1) E_n(r/h), n = 0..5,\n"
                " * E_0 = g the softened 1/r (-4 pi phi, phi the kernel's exact Poisson potential), E_1 = g',\n"
                " * E_2 = g'' - g'/r, E_(n+1) = E_n' - n E_n/r (GADGET-4's gfactors fac0..fac5; 1/r, -1/r^2,\n"
-               " * 3/r^3, ... outside the support h).\n";
+               " * 3/r^3, ... outside the support h). " + plummer_name + " = E_0(0): h = it times GADGET-4's\n"
+               " * Plummer-equivalent eps (the potential at r = 0 equal to Plummer's; GADGET-4 hard-codes its cubic\n"
+               " * spline's 2.8 = 14/5). As the softening beside another SPH kernel (GADGET-4's gravity tree takes\n"
+               " * the cubic spline whatever the SPH kernel), define MOLLIFY_G4_SOFTENING_ONLY before including this\n"
+               " * file: its prefixed functions only, no NORM or kernel_main.\n";
     out += " * Each constant is correctly rounded, written as that double's exact decimal expansion (C++11 has\n"
            " * no hex floats; a conforming compiler converts a representable literal exactly), its hex form\n"
            " * and exact value beside it.\n */\n";
     out += "#ifndef " + guard + "\n#define " + guard + "\n\n#if !(" + dim_macro + ")\n#error \"" + facts.spec +
            " was generated for D = " + std::to_string(k.dim) + "\"\n#endif\n\n#include <math.h>\n\n" + c_helpers + "\n";
-    const double norm_value = round_to_double(norm);
-    out += "#define NORM " + s.literal(norm_value) + " /* " + hex_literal(norm_value) + ", " + comment_text(norm.to_string()) + " */\n";
-    out += "#ifndef COMPUTE_WK\n#define COMPUTE_WK -1\n#define COMPUTE_WK_AND_DWK 0\n#define COMPUTE_DWK 1\n#endif\n";
     out += "static const double " + prefix + "_c[" + std::to_string(constants.size()) + "] = {\n";
     for (std::size_t i = 0; i < constants.size(); ++i)
         out += "    " + s.literal(constants[i].value) + ", /* [" + std::to_string(i) + "] " + hex_literal(constants[i].value) + ", " +
                comment_text(constants[i].exact) + " */\n";
     out += "};\n" + functions;
-    out += "\nstatic inline void kernel_main(double u, double hinv3, double hinv4, double *wk, double *dwk, int mode)\n{\n"
-           "    if (mode <= COMPUTE_WK_AND_DWK) *wk = NORM * hinv3 * " + prefix + "_w(u);\n"
-           "    if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * " + prefix + "_dw(u);\n}\n";
     if (gravity && finite >= 0) {
         if (finite < max_gfactor)
             out += "\n/* fac" + std::to_string(finite + 1) + " and higher have no finite limit at r = 0 for " +
@@ -125,9 +126,21 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
         for (int n = 0; n <= finite; ++n)
             out += "    fac[" + std::to_string(n) + "] = " + prefix + "_fac" + std::to_string(n) + "(u) * pow(hinv, " +
                    std::to_string(n + 1) + ");\n";
-        out += "}\n";
+        out += "}\n\n";
+        const double plummer_value = round_to_double(plummer);
+        out += "/* h / eps of the Plummer-equivalent softening: E_0(0) */\n#define " + plummer_name + " " + s.literal(plummer_value) + " /* " + hex_literal(plummer_value) + ", " +
+               comment_text(plummer.to_string()) + " */\n";
     }
     out += "\n#endif\n";
+    // GADGET-4's SPH kernel interface, apart: unprefixed names, one kernel per unit
+    const std::string sph_guard = "MOLLIFY_G4_" + facts.id + "_SPH_H";
+    const double norm_value = round_to_double(norm);
+    out += "\n#if !defined(MOLLIFY_G4_SOFTENING_ONLY) && !defined(" + sph_guard + ")\n#define " + sph_guard + "\n";
+    out += "#define NORM " + s.literal(norm_value) + " /* " + hex_literal(norm_value) + ", " + comment_text(norm.to_string()) + " */\n";
+    out += "#ifndef COMPUTE_WK\n#define COMPUTE_WK -1\n#define COMPUTE_WK_AND_DWK 0\n#define COMPUTE_DWK 1\n#endif\n";
+    out += "static inline void kernel_main(double u, double hinv3, double hinv4, double *wk, double *dwk, int mode)\n{\n"
+           "    if (mode <= COMPUTE_WK_AND_DWK) *wk = NORM * hinv3 * " + prefix + "_w(u);\n"
+           "    if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * " + prefix + "_dw(u);\n}\n#endif\n";
     return {{"gadget4/" + facts.id + ".h", out}};
 }
 

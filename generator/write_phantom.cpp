@@ -259,7 +259,7 @@ TargetFiles write_phantom(const TargetKernel& tk, const std::string& command) {
     out += parameter("radkern", Exact(radkern)) + parameter("radkern2", Exact(radkern * radkern));
     out += parameter("cnormk", cnormk) + parameter("wab0", wab0) + parameter("gradh0", gradh0);
     out += parameter("dphidh0", dphidh0) + parameter("cnormk_drag", cnormk_drag);
-    out += " real, parameter, public :: hfact_default = " + boz(hfact.value) + "  ! sqrt(" + short_string(hfact.square) + ")\n";
+    out += " real, parameter, public :: hfact_default = " + boz(hfact.value) + "  ! " + sqrt_text(hfact.square) + "\n";
     out += parameter("av_factor", av_factor);
     out += " public :: get_kernel, get_kernel_grav1, wkern, grkern, kernel_softening, kernel_grad_soft, wkern_drag\n";
     bool log1p = false;

@@ -372,6 +372,58 @@ TEST(Gadget4, KernelMainAndGfactorsMatchTheExactValues) {
         }
 }
 
+// GADGET-4's gravity tree softens with its cubic spline whatever the SPH
+// kernel: one unit takes a header whole (NORM, kernel_main) and another
+// kernel's with MOLLIFY_G4_SOFTENING_ONLY (its prefixed functions only), in
+// either order, under GADGET-4's -std=c++11 -Wall -Wextra -Werror. Without the
+// macro the two headers' NORM and kernel_main clash, which must not compile.
+// The values: kernel_main the SPH kernel's, the g-factors the other's (32 ulp
+// as above), the Plummer factors E_0(0) = 14/5 (GADGET-4's 2.8) and 3.
+TEST(Gadget4, SofteningOfOneKernelBesideTheSphKernelOfAnother) {
+    const fs::path dir = work_dir().string() + "_gadget4_softening";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target gadget4 --only cubic-spline --only wendland:k=1 --dim 3 --out '" +
+                                   dir.string() + "'",
+                               dir / "capture");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string body =
+        "#include <cstdio>\nint main() {\n  double w = 0, dw = 0, fac[6];\n  kernel_main(0.3, 1, 1, &w, &dw, COMPUTE_WK_AND_DWK);\n"
+        "  mollify_g4_cubic_spline_D3_gfactors(0.3, 1.0, fac);\n  const double p[2] = {MOLLIFY_G4_cubic_spline_D3_PLUMMER, "
+        "MOLLIFY_G4_wendland_k_1_D3_PLUMMER};\n  std::fwrite(&w, 8, 1, stdout);\n  std::fwrite(&dw, 8, 1, stdout);\n"
+        "  std::fwrite(fac, 8, 6, stdout);\n  std::fwrite(p, 8, 2, stdout);\n}\n";
+    const std::string sph = "#include \"gadget4/wendland_k_1_D3.h\"\n";
+    const std::string soft = "#define MOLLIFY_G4_SOFTENING_ONLY\n#include \"gadget4/cubic_spline_D3.h\"\n#undef MOLLIFY_G4_SOFTENING_ONLY\n";
+    const std::string cc = "g++ -std=c++11 -O2 -Wall -Wextra -Werror ";
+    std::ofstream(dir / "sph_first.cpp") << sph + soft + body;
+    std::ofstream(dir / "softening_first.cpp") << soft + sph + body;
+    std::ofstream(dir / "clash.cpp") << sph + "#include \"gadget4/cubic_spline_D3.h\"\n" + body;
+    const gen::KernelFacts c2 = gen::kernel_facts({mollify::parse_spec("wendland:k=1"), 3});
+    const gen::KernelFacts cubic = gen::kernel_facts({mollify::parse_spec("cubic-spline"), 3});
+    const std::vector<gen::Radial> fac = gen::gadget_gfactors(cubic.kernel, gen::max_gfactor);
+    const gen::Exact one(gen::Q(1));
+    for (const char* unit : {"sph_first", "softening_first"}) {
+        SCOPED_TRACE(unit);
+        ASSERT_NO_FATAL_FAILURE(run_in(dir, "g++", cc + unit + ".cpp -o " + unit));
+        ASSERT_NO_FATAL_FAILURE(run_in(dir, unit, std::string("(./") + unit + " > " + unit + ".bin)"));
+        const std::vector<double> y = read_doubles(dir / (std::string(unit) + ".bin"));
+        ASSERT_EQ(y.size(), 10u);
+        const double x = 0.3;
+        const gen::Radial& W = c2.quantities.value;
+        const gen::Radial dW = W.derivative();
+        // kernel_main is NORM w(u): W itself on support 1 (GADGET-4's hinv3 = hinv4 = 1)
+        EXPECT_LE(ulps_off(y[0], exact_at(W, x, one), std::fabs(x * exact_at(dW, x, one))), bound_ulps);
+        EXPECT_LE(ulps_off(y[1], exact_at(dW, x, one), std::fabs(x * exact_at(dW.derivative(), x, one))), bound_ulps);
+        for (int n = 0; n < 6; ++n)
+            EXPECT_LE(ulps_off(y[2 + n], exact_at(fac[n], x, one), std::fabs(x * exact_at(fac[n].derivative(), x, one))), bound_ulps)
+                << "the cubic spline's fac" << n;
+        EXPECT_EQ(y[8], 2.8);
+        EXPECT_EQ(y[9], 3.0);
+    }
+    const auto clash = run_command("cd '" + dir.string() + "' && " + cc + "clash.cpp -o clash", dir / "capture");
+    EXPECT_NE(clash.status, 0) << "two whole headers in one unit compiled";
+}
+
 // A higher-order kernel (zero second moment) has no double hump norm nor hfact: a clear error.
 TEST(PhantomErrors, HigherOrderKernelsNameTheirSecondMoment) {
     const fs::path out = work_dir().string() + "_combo";

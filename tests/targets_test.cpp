@@ -630,11 +630,29 @@ TEST(TargetsConventions, SwiftGammaAndPhantomHfactFromTheExactSecondMoment) {
     EXPECT_NEAR(gamma("wendland:k=3", 3), 2.449490, 5e-7);
     const auto cubic = gen::make_kernel(mollify::parse_spec("cubic-spline"), 3);
     EXPECT_EQ(gen::swift_gamma(cubic).square, gen::Q(10) / gen::Q(3));  // gamma^2 = 1/(4 sigma^2), sigma^2 = 3/40
-    auto hfact = [](const char* spec) { return gen::phantom_hfact(gen::make_kernel(mollify::parse_spec(spec), 3)).value; };
-    EXPECT_EQ(hfact("cubic-spline"), 1.2);
-    EXPECT_NEAR(hfact("wendland:k=1"), 1.3, 0.05);
-    EXPECT_NEAR(hfact("wendland:k=2"), 1.5, 0.05);
-    EXPECT_NEAR(hfact("wendland:k=3"), 1.6, 0.05);
+    auto hfact = [](const char* spec) { return gen::phantom_hfact(gen::make_kernel(mollify::parse_spec(spec), 3)); };
+    // Phantom's six stock kernels keep its own hfact_default (peers.md)
+    EXPECT_EQ(hfact("cubic-spline").value, 1.2);
+    EXPECT_EQ(hfact("quartic-spline").value, 1.1);
+    EXPECT_EQ(hfact("quintic-spline").value, 1.0);  // the equal-sigma rule: sqrt(162/175) = 0.96, which Phantom refuses
+    EXPECT_EQ(hfact("wendland:k=1").square, gen::Q(169, 100));
+    EXPECT_EQ(hfact("wendland:k=2").value, 1.5);
+    EXPECT_EQ(hfact("wendland:k=3").value, 1.6);
+    // The others: equal standard deviation with the cubic at 1.2 on radkern 2 (Dehnen & Aly), reproducing
+    // Phantom's rounded C2, C4, C6 defaults to the digit they give ...
+    auto sigma_rule = [](const char* spec) {
+        const auto k = gen::make_kernel(mollify::parse_spec(spec), 3);
+        const auto cubic = gen::make_kernel(mollify::parse_spec("cubic-spline"), 3);
+        return gen::Q(36, 25) * gen::variance(cubic) / gen::variance(k);  // hfact^2, radkern 2 both
+    };
+    EXPECT_NEAR(gen::sqrt_to_double(sigma_rule("wendland:k=1")), 1.3, 0.05);
+    EXPECT_NEAR(gen::sqrt_to_double(sigma_rule("wendland:k=2")), 1.5, 0.05);
+    EXPECT_NEAR(gen::sqrt_to_double(sigma_rule("wendland:k=3")), 1.6, 0.05);
+    EXPECT_EQ(hfact("wendland:k=2,l=1").square, sigma_rule("wendland:k=2,l=1"));
+    // ... and at least 1, Phantom's checksetup's floor (mollifier:M=1 by the rule: sqrt(189/250) = 0.87)
+    EXPECT_EQ(sigma_rule("mollifier:M=1"), gen::Q(189, 250));
+    EXPECT_EQ(hfact("mollifier:M=1").value, 1.0);
+    EXPECT_NE(hfact("mollifier:M=1").rule.find("Phantom's floor"), std::string::npos);
 }
 
 }  // namespace

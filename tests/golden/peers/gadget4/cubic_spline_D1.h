@@ -66,12 +66,6 @@ static inline double mollify_c_times_log(double x, double q, double e) { return 
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
 
-#define NORM 1.3333333333333332593184650249895639717578887939453125e+00 /* 0x1.5555555555555p+0, 4/3 */
-#ifndef COMPUTE_WK
-#define COMPUTE_WK -1
-#define COMPUTE_WK_AND_DWK 0
-#define COMPUTE_DWK 1
-#endif
 static const double mollify_g4_cubic_spline_D1_c[8] = {
     1.0e+00, /* [0] 0x1p+0, 1 */
     0.0, /* [1] 0x0p+0, 0 */
@@ -115,10 +109,19 @@ static inline double mollify_g4_cubic_spline_D1_dw(double q) {
     return y;
 }
 
+#endif
+
+#if !defined(MOLLIFY_G4_SOFTENING_ONLY) && !defined(MOLLIFY_G4_cubic_spline_D1_SPH_H)
+#define MOLLIFY_G4_cubic_spline_D1_SPH_H
+#define NORM 1.3333333333333332593184650249895639717578887939453125e+00 /* 0x1.5555555555555p+0, 4/3 */
+#ifndef COMPUTE_WK
+#define COMPUTE_WK -1
+#define COMPUTE_WK_AND_DWK 0
+#define COMPUTE_DWK 1
+#endif
 static inline void kernel_main(double u, double hinv3, double hinv4, double *wk, double *dwk, int mode)
 {
     if (mode <= COMPUTE_WK_AND_DWK) *wk = NORM * hinv3 * mollify_g4_cubic_spline_D1_w(u);
     if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * mollify_g4_cubic_spline_D1_dw(u);
 }
-
 #endif

@@ -66,12 +66,6 @@ static inline double mollify_c_times_log(double x, double q, double e) { return 
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
 
-#define NORM 2.22816920328653456095935325720347464084625244140625e+00 /* 0x1.1d34a60108f72p+1, 7 * pi^-1 */
-#ifndef COMPUTE_WK
-#define COMPUTE_WK -1
-#define COMPUTE_WK_AND_DWK 0
-#define COMPUTE_DWK 1
-#endif
 static const double mollify_g4_wendland_k_1_D2_c[3] = {
     1.0e+00, /* [0] 0x1p+0, 1 */
     4.0e+00, /* [1] 0x1p+2, 4 */
@@ -102,10 +96,19 @@ static inline double mollify_g4_wendland_k_1_D2_dw(double q) {
     return y;
 }
 
+#endif
+
+#if !defined(MOLLIFY_G4_SOFTENING_ONLY) && !defined(MOLLIFY_G4_wendland_k_1_D2_SPH_H)
+#define MOLLIFY_G4_wendland_k_1_D2_SPH_H
+#define NORM 2.22816920328653456095935325720347464084625244140625e+00 /* 0x1.1d34a60108f72p+1, 7 * pi^-1 */
+#ifndef COMPUTE_WK
+#define COMPUTE_WK -1
+#define COMPUTE_WK_AND_DWK 0
+#define COMPUTE_DWK 1
+#endif
 static inline void kernel_main(double u, double hinv3, double hinv4, double *wk, double *dwk, int mode)
 {
     if (mode <= COMPUTE_WK_AND_DWK) *wk = NORM * hinv3 * mollify_g4_wendland_k_1_D2_w(u);
     if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * mollify_g4_wendland_k_1_D2_dw(u);
 }
-
 #endif

@@ -11,7 +11,11 @@
  * Softening (3D): mollify_g4_wendland_k_1_D3_gfactors(r, h, fac) gives fac[n] = h^-(n+1) E_n(r/h), n = 0..5,
  * E_0 = g the softened 1/r (-4 pi phi, phi the kernel's exact Poisson potential), E_1 = g',
  * E_2 = g'' - g'/r, E_(n+1) = E_n' - n E_n/r (GADGET-4's gfactors fac0..fac5; 1/r, -1/r^2,
- * 3/r^3, ... outside the support h).
+ * 3/r^3, ... outside the support h). MOLLIFY_G4_wendland_k_1_D3_PLUMMER = E_0(0): h = it times GADGET-4's
+ * Plummer-equivalent eps (the potential at r = 0 equal to Plummer's; GADGET-4 hard-codes its cubic
+ * spline's 2.8 = 14/5). As the softening beside another SPH kernel (GADGET-4's gravity tree takes
+ * the cubic spline whatever the SPH kernel), define MOLLIFY_G4_SOFTENING_ONLY before including this
+ * file: its prefixed functions only, no NORM or kernel_main.
  * Each constant is correctly rounded, written as that double's exact decimal expansion (C++11 has
  * no hex floats; a conforming compiler converts a representable literal exactly), its hex form
  * and exact value beside it.
@@ -70,12 +74,6 @@ static inline double mollify_c_times_log(double x, double q, double e) { return 
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
 
-#define NORM 3.342253804929801841439029885805211961269378662109375e+00 /* 0x1.abcef9018d72bp+1, 21/2 * pi^-1 */
-#ifndef COMPUTE_WK
-#define COMPUTE_WK -1
-#define COMPUTE_WK_AND_DWK 0
-#define COMPUTE_DWK 1
-#endif
 static const double mollify_g4_wendland_k_1_D3_c[92] = {
     1.0e+00, /* [0] 0x1p+0, 1 */
     4.0e+00, /* [1] 0x1p+2, 4 */
@@ -316,12 +314,6 @@ static inline double mollify_g4_wendland_k_1_D3_fac5(double q) {
     return y;
 }
 
-static inline void kernel_main(double u, double hinv3, double hinv4, double *wk, double *dwk, int mode)
-{
-    if (mode <= COMPUTE_WK_AND_DWK) *wk = NORM * hinv3 * mollify_g4_wendland_k_1_D3_w(u);
-    if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * mollify_g4_wendland_k_1_D3_dw(u);
-}
-
 /* fac[0..5] */
 static inline void mollify_g4_wendland_k_1_D3_gfactors(double r, double h, double fac[6])
 {
@@ -334,4 +326,22 @@ static inline void mollify_g4_wendland_k_1_D3_gfactors(double r, double h, doubl
     fac[5] = mollify_g4_wendland_k_1_D3_fac5(u) * pow(hinv, 6);
 }
 
+/* h / eps of the Plummer-equivalent softening: E_0(0) */
+#define MOLLIFY_G4_wendland_k_1_D3_PLUMMER 3.0e+00 /* 0x1.8p+1, 3 */
+
+#endif
+
+#if !defined(MOLLIFY_G4_SOFTENING_ONLY) && !defined(MOLLIFY_G4_wendland_k_1_D3_SPH_H)
+#define MOLLIFY_G4_wendland_k_1_D3_SPH_H
+#define NORM 3.342253804929801841439029885805211961269378662109375e+00 /* 0x1.abcef9018d72bp+1, 21/2 * pi^-1 */
+#ifndef COMPUTE_WK
+#define COMPUTE_WK -1
+#define COMPUTE_WK_AND_DWK 0
+#define COMPUTE_DWK 1
+#endif
+static inline void kernel_main(double u, double hinv3, double hinv4, double *wk, double *dwk, int mode)
+{
+    if (mode <= COMPUTE_WK_AND_DWK) *wk = NORM * hinv3 * mollify_g4_wendland_k_1_D3_w(u);
+    if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * mollify_g4_wendland_k_1_D3_dw(u);
+}
 #endif

@@ -8,7 +8,7 @@
 ! unit-mass normalisation). radkern = 2 for every kernel (Phantom's choice for the cubic and Wendland kernels):
 ! a power of two, so q/radkern is exact. phi is the kernel's exact Poisson potential (mollify's, times
 ! 4 pi, scaled to support radkern): phi = -1/q outside, dphidh = -phi - q dphi/dq.
-! hfact_default: hfact = 1.2 (2 sigma_cubic) / (radkern sigma), sigma^2 = (1/D) int |x|^2 W on support 1: 3/40 (cubic 3/40);
+! hfact_default: hfact = 6/5, Phantom's own in its kernel_cubic.f90 (the file replaces it with the same h, as radkern);
 !   hfact_default^2 = 36/25 exactly.
 ! av_factor = int q^4 w' dq / int q^3 w' dq (Meru & Bate 2012, eq. B21).
 ! Evaluated as mollify's Precision::fast; every constant correctly rounded, its exact value beside it.
@@ -25,7 +25,7 @@ module kernel
  real, parameter, public :: gradh0 = real(z'C008000000000000', c_double)  ! -3
  real, parameter, public :: dphidh0 = real(z'3FF6666666666666', c_double)  ! 7/5
  real, parameter, public :: cnormk_drag = real(z'3FD6A2A7966E6D03', c_double)  ! 10/9 * pi^-1
- real, parameter, public :: hfact_default = real(z'3FF3333333333333', c_double)  ! sqrt(36/25)
+ real, parameter, public :: hfact_default = real(z'3FF3333333333333', c_double)  ! 6/5
  real, parameter, public :: av_factor = real(z'3FF2E52E52E52E53', c_double)  ! 124/105
  public :: get_kernel, get_kernel_grav1, wkern, grkern, kernel_softening, kernel_grad_soft, wkern_drag
  ! The coefficients of every piece, in order (function, piece, term, power).

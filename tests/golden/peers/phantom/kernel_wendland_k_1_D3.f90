@@ -8,8 +8,8 @@
 ! unit-mass normalisation). radkern = 2 for every kernel (Phantom's choice for the cubic and Wendland kernels):
 ! a power of two, so q/radkern is exact. phi is the kernel's exact Poisson potential (mollify's, times
 ! 4 pi, scaled to support radkern): phi = -1/q outside, dphidh = -phi - q dphi/dq.
-! hfact_default: hfact = 1.2 (2 sigma_cubic) / (radkern sigma), sigma^2 = (1/D) int |x|^2 W on support 1: 1/15 (cubic 3/40);
-!   hfact_default^2 = 81/50 exactly.
+! hfact_default: hfact = 13/10, Phantom's own in its kernel_WendlandC2.f90 (the file replaces it with the same h, as radkern);
+!   hfact_default^2 = 169/100 exactly.
 ! av_factor = int q^4 w' dq / int q^3 w' dq (Meru & Bate 2012, eq. B21).
 ! Evaluated as mollify's Precision::fast; every constant correctly rounded, its exact value beside it.
 ! Compile with Phantom's -fdefault-real-8 (real is c_double).
@@ -25,7 +25,7 @@ module kernel
  real, parameter, public :: gradh0 = real(z'C008000000000000', c_double)  ! -3
  real, parameter, public :: dphidh0 = real(z'3FF8000000000000', c_double)  ! 3/2
  real, parameter, public :: cnormk_drag = real(z'3FE0B615BA0F867B', c_double)  ! 105/64 * pi^-1
- real, parameter, public :: hfact_default = real(z'3FF45D5B5C3F4F6B', c_double)  ! sqrt(81/50)
+ real, parameter, public :: hfact_default = real(z'3FF4CCCCCCCCCCCD', c_double)  ! 13/10
  real, parameter, public :: av_factor = real(z'3FF1C71C71C71C72', c_double)  ! 10/9
  public :: get_kernel, get_kernel_grav1, wkern, grkern, kernel_softening, kernel_grad_soft, wkern_drag
  ! The coefficients of every piece, in order (function, piece, term, power).
