@@ -144,6 +144,7 @@ const Convention& convention(const std::string& target) {
 }
 
 double sqrt_to_double(const Q& x) { return sqrt_rounded<double>(x); }
+float sqrt_to_float(const Q& x) { return sqrt_rounded<float>(x); }
 
 std::string sqrt_text(const Q& x) {
     using boost::multiprecision::mpz_int;
@@ -152,7 +153,6 @@ std::string sqrt_text(const Q& x) {
     if (x >= 0 && rn * rn == n && rd * rd == d) return short_string(Q(rn, rd));
     return "sqrt(" + short_string(x) + ")";
 }
-float sqrt_to_float(const Q& x) { return sqrt_rounded<float>(x); }
 
 Q variance(const ExactKernel& k) {
     const Exact m2 = radial_moment(k, 2);

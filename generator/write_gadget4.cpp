@@ -71,7 +71,7 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     const bool gravity = k.dim == 3 && quantity_of(facts, static_cast<int>(table::QuantityId::potential)) != nullptr;
     int finite = -1;  // fac0..fac<finite> have finite limits at r = 0
     Exact plummer;    // h / eps of the Plummer-equivalent softening, E_0(0)
-    std::string plummer_name = "MOLLIFY_G4_" + facts.id + "_PLUMMER";
+    const std::string plummer_name = "MOLLIFY_G4_" + facts.id + "_PLUMMER";
     if (gravity) {
         const std::vector<Radial> g = gadget_gfactors(k, max_gfactor);
         finite = finite_at_origin(g);
@@ -128,8 +128,8 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
                    std::to_string(n + 1) + ");\n";
         out += "}\n\n";
         const double plummer_value = round_to_double(plummer);
-        out += "/* h / eps of the Plummer-equivalent softening: E_0(0) */\n#define " + plummer_name + " " + s.literal(plummer_value) + " /* " + hex_literal(plummer_value) + ", " +
-               comment_text(plummer.to_string()) + " */\n";
+        out += "/* h / eps of the Plummer-equivalent softening: E_0(0) */\n#define " + plummer_name + " " +
+               s.literal(plummer_value) + " /* " + hex_literal(plummer_value) + ", " + comment_text(plummer.to_string()) + " */\n";
     }
     out += "\n#endif\n";
     // GADGET-4's SPH kernel interface, apart: unprefixed names, one kernel per unit
