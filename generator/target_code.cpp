@@ -123,12 +123,21 @@ std::string inside_term(const Syntax& s, const CodeTerm& ct) {
     switch (t.var) {
         case table::Var::r: v = "q"; break;
         case table::Var::r2: v = "q * q"; break;
-        case table::Var::shifted: v = s.call("shifted", {"r", "h", s.literal(t.centre), s.literal(t.centre_lo)}); break;
+        case table::Var::shifted:
+            if (!s.unit_h)
+                v = s.call("shifted", {"r", "h", s.literal(t.centre), s.literal(t.centre_lo)});
+            else if (t.centre_lo == 0)
+                v = "(q - " + s.literal(t.centre) + ")";
+            else  // x - c_lo as x + (-c_lo): the same rounding, no "- -"
+                v = "((q - " + s.literal(t.centre) + ") " + (t.centre_lo < 0 ? "+ " : "- ") + s.literal(std::fabs(t.centre_lo)) + ")";
+            break;
     }
     std::string x = s.horner(ct.first, t.c.size(), v);
     if (t.low != 0) x = times(x, s.power("q", t.low));
     if (t.edge_power != 0) {
-        std::string d = t.edge == 1.0 ? std::string("e") : s.call("to_edge", {"r", "h", s.literal(t.edge)});
+        std::string d = t.edge == 1.0 ? std::string("e")
+                        : s.unit_h    ? "(" + s.literal(t.edge) + " - q)"
+                                      : s.call("to_edge", {"r", "h", s.literal(t.edge)});
         if (t.var == table::Var::r2) d = "(" + d + " * (" + s.literal(t.edge) + " + q))";
         x = times(x, s.power(d, t.edge_power));
     }

@@ -108,6 +108,11 @@ struct Syntax {
     std::function<std::string(const std::string& name, const std::vector<std::string>& args)> call;
     std::string log;  // natural logarithm, for the Green's function
     std::string infinity;  // +inf
+    // The variable q is the radius on support 1 itself (h = 1: the peers' unit
+    // functions): shifted is q - c, one rounding, then c_lo, and to_edge a - q,
+    // the values fma(-c, 1, q) and fma(a, 1, -q) give, without calling fma (a
+    // libm call where the compiler's target has no FMA, e.g. SWIFT's -march=core2).
+    bool unit_h = false;
 };
 
 // Inner piece p of q: its terms added in order; the first piece of a

@@ -138,11 +138,17 @@ std::string c_piece_chain(const CodeQuantity& q, const Syntax& s, const std::str
     return body;
 }
 
-std::string c_unit_function(const std::string& name, const std::string& meaning, const CodeQuantity& q, const Syntax& s) {
+std::string c_unit_function(const std::string& name, const std::string& meaning, const CodeQuantity& q, const Syntax& syntax) {
+    Syntax s = syntax;
+    s.unit_h = true;
     std::string out = "\n/* " + meaning + " */\nstatic inline double " + name + "(double q) {\n";
     const std::string body = c_piece_chain(q, s, "    ", "y");
     const std::string outside = piece_sum(s, q.exterior, true);
-    const bool r_used = uses(body, "r") || uses(outside, "r"), h_used = uses(body, "h"), e_used = uses(body, "e");
+    // the variables the code uses, not the pieces' comments ("Taylor about 24/145 up to (r-c)^39")
+    std::string code = body;
+    for (std::size_t i = code.find("/*"); i != std::string::npos; i = code.find("/*", i))
+        code.erase(i, code.find("*/", i) + 2 - i);
+    const bool r_used = uses(code, "r") || uses(outside, "r"), h_used = uses(code, "h"), e_used = uses(code, "e");
     out += "    double y;\n";
     if (r_used) out += "    const double r = q;\n";
     if (h_used) out += "    const double h = 1.0;\n";

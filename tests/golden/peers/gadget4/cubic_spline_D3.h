@@ -175,13 +175,12 @@ static inline double mollify_g4_cubic_spline_D3_dw(double q) {
 static inline double mollify_g4_cubic_spline_D3_fac0(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_g4_cubic_spline_D3_c + 17, 1, r * r) * mollify_c_ipow(r, -1);
     {
     const double e = 1 - q;
     /* [0, 1/2), Taylor polynomial about 1/4 */
     if (q < 5.0e-01)
-        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 8, 6, mollify_c_shifted(r, h, 2.5e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 8, 6, (q - 2.5e-01));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 14, 1, q * q) * mollify_c_ipow(q, -1)
@@ -194,7 +193,6 @@ static inline double mollify_g4_cubic_spline_D3_fac0(double q) {
 static inline double mollify_g4_cubic_spline_D3_fac1(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_g4_cubic_spline_D3_c + 31, 1, r * r) * mollify_c_ipow(r, -2);
     {
     const double e = 1 - q;
@@ -203,7 +201,7 @@ static inline double mollify_g4_cubic_spline_D3_fac1(double q) {
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 18, 4, q) * q;
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 5.0e-01)
-        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 22, 5, mollify_c_shifted(r, h, 3.75e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 22, 5, (q - 3.75e-01));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 27, 1, q * q) * mollify_c_ipow(q, -2)
@@ -216,7 +214,6 @@ static inline double mollify_g4_cubic_spline_D3_fac1(double q) {
 static inline double mollify_g4_cubic_spline_D3_fac2(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_g4_cubic_spline_D3_c + 43, 1, r * r) * mollify_c_ipow(r, -3);
     {
     const double e = 1 - q;
@@ -225,7 +222,7 @@ static inline double mollify_g4_cubic_spline_D3_fac2(double q) {
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 32, 2, q) * mollify_c_ipow(q, 2);
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 5.0e-01)
-        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 34, 4, mollify_c_shifted(r, h, 3.75e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 34, 4, (q - 3.75e-01));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_cubic_spline_D3_c + 38, 1, q * q) * mollify_c_ipow(q, -3)

@@ -197,13 +197,12 @@ static inline double mollify_g4_wendland_k_1_D3_dw(double q) {
 static inline double mollify_g4_wendland_k_1_D3_fac0(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 15, 1, r * r) * mollify_c_ipow(r, -1);
     {
     const double e = 1 - q;
     /* [0, 1/2), Taylor polynomial about 1/4 */
     if (q < 5.0e-01)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 3, 8, mollify_c_shifted(r, h, 2.5e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 3, 8, (q - 2.5e-01));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 11, 1, q * q) * mollify_c_ipow(q, -1)
@@ -216,7 +215,6 @@ static inline double mollify_g4_wendland_k_1_D3_fac0(double q) {
 static inline double mollify_g4_wendland_k_1_D3_fac1(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 41, 1, r * r) * mollify_c_ipow(r, -2);
     {
     const double e = 1 - q;
@@ -225,10 +223,10 @@ static inline double mollify_g4_wendland_k_1_D3_fac1(double q) {
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 16, 6, q) * q;
     /* [1/8, 1/4), Taylor polynomial about 3/16 */
     else if (q < 2.5e-01)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 22, 7, mollify_c_shifted(r, h, 1.875e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 22, 7, (q - 1.875e-01));
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 5.0e-01)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 29, 7, mollify_c_shifted(r, h, 3.75e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 29, 7, (q - 3.75e-01));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 36, 1, q * q) * mollify_c_ipow(q, -2)
@@ -241,7 +239,6 @@ static inline double mollify_g4_wendland_k_1_D3_fac1(double q) {
 static inline double mollify_g4_wendland_k_1_D3_fac2(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 64, 1, r * r) * mollify_c_ipow(r, -3);
     {
     /* [0, 1/8) */
@@ -249,13 +246,13 @@ static inline double mollify_g4_wendland_k_1_D3_fac2(double q) {
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 42, 4, q) * mollify_c_ipow(q, 2);
     /* [1/8, 1/4), Taylor polynomial about 3/16 */
     else if (q < 2.5e-01)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 46, 6, mollify_c_shifted(r, h, 1.875e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 46, 6, (q - 1.875e-01));
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 5.0e-01)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 52, 6, mollify_c_shifted(r, h, 3.75e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 52, 6, (q - 3.75e-01));
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 58, 6, mollify_c_shifted(r, h, 7.5e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 58, 6, (q - 7.5e-01));
     }
     return y;
 }
@@ -264,7 +261,6 @@ static inline double mollify_g4_wendland_k_1_D3_fac2(double q) {
 static inline double mollify_g4_wendland_k_1_D3_fac3(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 78, 1, r * r) * mollify_c_ipow(r, -4);
     {
     /* [0, 1/4) */
@@ -272,10 +268,10 @@ static inline double mollify_g4_wendland_k_1_D3_fac3(double q) {
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 65, 3, q) * mollify_c_ipow(q, 2);
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 5.0e-01)
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 68, 5, mollify_c_shifted(r, h, 3.75e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 68, 5, (q - 3.75e-01));
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 73, 5, mollify_c_shifted(r, h, 7.5e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 73, 5, (q - 7.5e-01));
     }
     return y;
 }
@@ -284,7 +280,6 @@ static inline double mollify_g4_wendland_k_1_D3_fac3(double q) {
 static inline double mollify_g4_wendland_k_1_D3_fac4(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 85, 1, r * r) * mollify_c_ipow(r, -5);
     {
     /* [0, 1/2) */
@@ -292,7 +287,7 @@ static inline double mollify_g4_wendland_k_1_D3_fac4(double q) {
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 79, 2, q * q) * q;
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 81, 4, mollify_c_shifted(r, h, 7.5e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 81, 4, (q - 7.5e-01));
     }
     return y;
 }
@@ -301,7 +296,6 @@ static inline double mollify_g4_wendland_k_1_D3_fac4(double q) {
 static inline double mollify_g4_wendland_k_1_D3_fac5(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 91, 1, r * r) * mollify_c_ipow(r, -6);
     {
     /* [0, 1/2) */
@@ -309,7 +303,7 @@ static inline double mollify_g4_wendland_k_1_D3_fac5(double q) {
         y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 86, 2, q * q);
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 88, 3, mollify_c_shifted(r, h, 7.5e-01, 0.0));
+        y = mollify_c_horner(mollify_g4_wendland_k_1_D3_c + 88, 3, (q - 7.5e-01));
     }
     return y;
 }

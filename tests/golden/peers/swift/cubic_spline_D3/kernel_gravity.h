@@ -161,13 +161,12 @@ static const double mollify_swift_grav_cubic_spline_D3_c[66] = {
 static inline double mollify_swift_grav_cubic_spline_D3_pot(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 9, 1, r * r) * mollify_c_ipow(r, -1);
     {
     const double e = 1 - q;
     /* [0, 1/2), Taylor polynomial about 1/4 */
     if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 0, 6, mollify_c_shifted(r, h, 0x1p-2, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 0, 6, (q - 0x1p-2));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 6, 1, q * q) * mollify_c_ipow(q, -1)
@@ -180,13 +179,12 @@ static inline double mollify_swift_grav_cubic_spline_D3_pot(double q) {
 static inline double mollify_swift_grav_cubic_spline_D3_force(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 18, 1, r * r) * mollify_c_ipow(r, -3);
     {
     const double e = 1 - q;
     /* [0, 1/2), Taylor polynomial about 1/4 */
     if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 10, 4, mollify_c_shifted(r, h, 0x1p-2, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 10, 4, (q - 0x1p-2));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 14, 1, q * q) * mollify_c_ipow(q, -3)
@@ -199,13 +197,12 @@ static inline double mollify_swift_grav_cubic_spline_D3_force(double q) {
 static inline double mollify_swift_grav_cubic_spline_D3_dsoft1(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 28, 1, r * r) * mollify_c_ipow(r, -1);
     {
     const double e = 1 - q;
     /* [0, 1/2), Taylor polynomial about 1/4 */
     if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 19, 6, mollify_c_shifted(r, h, 0x1p-2, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 19, 6, (q - 0x1p-2));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 25, 1, q * q) * mollify_c_ipow(q, -1)
@@ -218,7 +215,6 @@ static inline double mollify_swift_grav_cubic_spline_D3_dsoft1(double q) {
 static inline double mollify_swift_grav_cubic_spline_D3_dsoft2(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 42, 1, r * r) * mollify_c_ipow(r, -2);
     {
     const double e = 1 - q;
@@ -227,7 +223,7 @@ static inline double mollify_swift_grav_cubic_spline_D3_dsoft2(double q) {
         y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 29, 4, q) * q;
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 33, 5, mollify_c_shifted(r, h, 0x1.8p-2, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 33, 5, (q - 0x1.8p-2));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 38, 1, q * q) * mollify_c_ipow(q, -2)
@@ -240,7 +236,6 @@ static inline double mollify_swift_grav_cubic_spline_D3_dsoft2(double q) {
 static inline double mollify_swift_grav_cubic_spline_D3_dsoft3(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 54, 1, r * r) * mollify_c_ipow(r, -3);
     {
     const double e = 1 - q;
@@ -249,7 +244,7 @@ static inline double mollify_swift_grav_cubic_spline_D3_dsoft3(double q) {
         y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 43, 2, q) * mollify_c_ipow(q, 2);
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 45, 4, mollify_c_shifted(r, h, 0x1.8p-2, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 45, 4, (q - 0x1.8p-2));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 49, 1, q * q) * mollify_c_ipow(q, -3)

@@ -209,13 +209,12 @@ static const double mollify_swift_grav_wendland_k_1_D3_c[120] = {
 static inline double mollify_swift_grav_wendland_k_1_D3_pot(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 12, 1, r * r) * mollify_c_ipow(r, -1);
     {
     const double e = 1 - q;
     /* [0, 1/2), Taylor polynomial about 1/4 */
     if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 0, 8, mollify_c_shifted(r, h, 0x1p-2, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 0, 8, (q - 0x1p-2));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 8, 1, q * q) * mollify_c_ipow(q, -1)
@@ -228,16 +227,15 @@ static inline double mollify_swift_grav_wendland_k_1_D3_pot(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_force(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 30, 1, r * r) * mollify_c_ipow(r, -3);
     {
     const double e = 1 - q;
     /* [0, 1/4), Taylor polynomial about 1/8 */
     if (q < 0x1p-2)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 13, 6, mollify_c_shifted(r, h, 0x1p-3, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 13, 6, (q - 0x1p-3));
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 19, 6, mollify_c_shifted(r, h, 0x1.8p-2, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 19, 6, (q - 0x1.8p-2));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 25, 1, q * q) * mollify_c_ipow(q, -3)
@@ -250,13 +248,12 @@ static inline double mollify_swift_grav_wendland_k_1_D3_force(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft1(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 43, 1, r * r) * mollify_c_ipow(r, -1);
     {
     const double e = 1 - q;
     /* [0, 1/2), Taylor polynomial about 1/4 */
     if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 31, 8, mollify_c_shifted(r, h, 0x1p-2, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 31, 8, (q - 0x1p-2));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 39, 1, q * q) * mollify_c_ipow(q, -1)
@@ -269,7 +266,6 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft1(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft2(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 69, 1, r * r) * mollify_c_ipow(r, -2);
     {
     const double e = 1 - q;
@@ -278,10 +274,10 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft2(double q) {
         y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 44, 6, q) * q;
     /* [1/8, 1/4), Taylor polynomial about 3/16 */
     else if (q < 0x1p-2)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 50, 7, mollify_c_shifted(r, h, 0x1.8p-3, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 50, 7, (q - 0x1.8p-3));
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 57, 7, mollify_c_shifted(r, h, 0x1.8p-2, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 57, 7, (q - 0x1.8p-2));
     /* [1/2, 1) */
     else
         y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 64, 1, q * q) * mollify_c_ipow(q, -2)
@@ -294,7 +290,6 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft2(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft3(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 92, 1, r * r) * mollify_c_ipow(r, -3);
     {
     /* [0, 1/8) */
@@ -302,13 +297,13 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft3(double q) {
         y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 70, 4, q) * mollify_c_ipow(q, 2);
     /* [1/8, 1/4), Taylor polynomial about 3/16 */
     else if (q < 0x1p-2)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 74, 6, mollify_c_shifted(r, h, 0x1.8p-3, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 74, 6, (q - 0x1.8p-3));
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 80, 6, mollify_c_shifted(r, h, 0x1.8p-2, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 80, 6, (q - 0x1.8p-2));
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 86, 6, mollify_c_shifted(r, h, 0x1.8p-1, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 86, 6, (q - 0x1.8p-1));
     }
     return y;
 }
@@ -317,7 +312,6 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft3(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft4(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 106, 1, r * r) * mollify_c_ipow(r, -4);
     {
     /* [0, 1/4) */
@@ -325,10 +319,10 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft4(double q) {
         y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 93, 3, q) * mollify_c_ipow(q, 2);
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 96, 5, mollify_c_shifted(r, h, 0x1.8p-2, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 96, 5, (q - 0x1.8p-2));
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 101, 5, mollify_c_shifted(r, h, 0x1.8p-1, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 101, 5, (q - 0x1.8p-1));
     }
     return y;
 }
@@ -337,7 +331,6 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft4(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft5(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 113, 1, r * r) * mollify_c_ipow(r, -5);
     {
     /* [0, 1/2) */
@@ -345,7 +338,7 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft5(double q) {
         y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 107, 2, q * q) * q;
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 109, 4, mollify_c_shifted(r, h, 0x1.8p-1, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 109, 4, (q - 0x1.8p-1));
     }
     return y;
 }
@@ -354,7 +347,6 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft5(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft6(double q) {
     double y;
     const double r = q;
-    const double h = 1.0;
     if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 119, 1, r * r) * mollify_c_ipow(r, -6);
     {
     /* [0, 1/2) */
@@ -362,7 +354,7 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft6(double q) {
         y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 114, 2, q * q);
     /* [1/2, 1), Taylor polynomial about 3/4 */
     else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 116, 3, mollify_c_shifted(r, h, 0x1.8p-1, 0x0p+0));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 116, 3, (q - 0x1.8p-1));
     }
     return y;
 }
