@@ -186,7 +186,7 @@ DerivedConstant phantom_hfact(const ExactKernel& k) {
         {"wendland:k=2", Q(3, 2), "kernel_WendlandC4.f90"},    {"wendland:k=3", Q(8, 5), "kernel_WendlandC6.f90"},
     };
     for (const Stock& st : stock)
-        if (k.dim == 3 && make_kernel(parse_spec(st.spec), 3).W == k.W)
+        if (k.dim == 3 && k.spec == parse_spec(st.spec))
             return {"hfact_default", st.hfact * st.hfact, sqrt_to_double(st.hfact * st.hfact), sqrt_to_float(st.hfact * st.hfact),
                     "hfact = " + short_string(st.hfact) + ", Phantom's own in its " + st.file +
                         " (the file replaces it with the same h, as radkern)"};

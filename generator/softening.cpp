@@ -37,6 +37,18 @@ Radial softened_inverse_distance(const ExactKernel& k) {
     return poisson_potential(k) * (-sphere_measure(3));
 }
 
+Exact plummer_equivalent(const Radial& g, const std::string& kernel) {
+    Exact g0;
+    try {
+        g0 = value_at(g.pieces.front(), Q(0));
+    } catch (const Error& e) {
+        fail("kernel " + kernel + ": the softened 1/r is infinite at r = 0 (" + e.what() + "), no Plummer-equivalent softening");
+    }
+    if (!(g0.evaluate(64).first > 0))
+        fail("kernel " + kernel + ": the softened 1/r at r = 0 is " + g0.to_string() + " <= 0, no Plummer-equivalent softening");
+    return g0;
+}
+
 std::vector<Radial> multipole_factors(const ExactKernel& k, int max_order) {
     check_order("multipole factor", max_order, 0, max_softening_order - 1);
     std::vector<Radial> e{softened_inverse_distance(k)};

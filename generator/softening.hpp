@@ -49,6 +49,13 @@ std::vector<Radial> softening_derivatives(const ExactKernel& k, int max_order = 
 // g = -4 pi phi, the softened 1/r (D = 3 only: the N-body codes' gravity).
 Radial softened_inverse_distance(const ExactKernel& k);
 
+// H / eps of the Plummer-equivalent softening, from g of a kernel on support
+// 1: g(0), so that the softened potential at r = 0, -m g(0)/H, is Plummer's
+// -m/eps (SWIFT's kernel_gravity_softening_plummer_equivalent, 3 for Wendland
+// C2; GADGET-4's hard-coded 2.8 = 14/5 for its cubic spline). Error naming
+// `kernel` where g(0) is infinite or not positive.
+Exact plummer_equivalent(const Radial& g, const std::string& kernel);
+
 // E_0..E_max_order of g (see above); the exterior is (-1)^n (2n-1)!! / r^(n+1).
 std::vector<Radial> multipole_factors(const ExactKernel& k, int max_order);
 

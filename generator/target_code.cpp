@@ -189,6 +189,14 @@ bool uses(const std::string& code, const std::string& name) {
     return false;
 }
 
+std::string without_comments(std::string code, const std::string& open, const std::string& close) {
+    for (std::size_t i = code.find(open); i != std::string::npos; i = code.find(open, i)) {
+        const std::size_t end = code.find(close, i + open.size());
+        code.replace(i, (end == std::string::npos ? code.size() : end) - i, " ");
+    }
+    return code;
+}
+
 std::string quantity_description(table::QuantityId q) {
     switch (q) {
         case table::QuantityId::value: return "W";

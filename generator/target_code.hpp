@@ -127,6 +127,10 @@ std::string piece_sum(const Syntax& s, const CodePiece& p, bool exterior);
 
 // Does `code` use the variable `name` (a whole identifier)?
 bool uses(const std::string& code, const std::string& name);
+// `code` with its comments (from `open` to `close`, "/*" "*/" in C, "!" "\n" in
+// Fortran) blanked, for uses(): a piece's note ("Taylor about 24/145 up to
+// (r-c)^39") names variables the code may not use.
+std::string without_comments(std::string code, const std::string& open, const std::string& close);
 
 // The quantities' descriptions for comments ("W'/r: grad W = (W'/r) x").
 std::string quantity_description(table::QuantityId q);

@@ -144,10 +144,7 @@ std::string c_unit_function(const std::string& name, const std::string& meaning,
     std::string out = "\n/* " + meaning + " */\nstatic inline double " + name + "(double q) {\n";
     const std::string body = c_piece_chain(q, s, "    ", "y");
     const std::string outside = piece_sum(s, q.exterior, true);
-    // the variables the code uses, not the pieces' comments ("Taylor about 24/145 up to (r-c)^39")
-    std::string code = body;
-    for (std::size_t i = code.find("/*"); i != std::string::npos; i = code.find("/*", i))
-        code.erase(i, code.find("*/", i) + 2 - i);
+    const std::string code = without_comments(body, "/*", "*/");
     const bool r_used = uses(code, "r") || uses(outside, "r"), h_used = uses(code, "h"), e_used = uses(code, "e");
     out += "    double y;\n";
     if (r_used) out += "    const double r = q;\n";
@@ -183,8 +180,9 @@ std::string c_function(const CodeKernel& k, const CodeQuantity& q, const Syntax&
     out += "    if (r > h) return " + piece_sum(s, q.exterior, true) + ";\n";
     const std::string body = c_piece_chain(q, s, "        ", "x");
     out += "    {\n";
-    if (uses(body, "q")) out += "        const double q = r / h;\n";
-    if (uses(body, "e")) out += "        const double e = (h - r) / h;\n";
+    const std::string code = without_comments(body, "/*", "*/");
+    if (uses(code, "q")) out += "        const double q = r / h;\n";
+    if (uses(code, "e")) out += "        const double e = (h - r) / h;\n";
     out += "        double x;\n" + body;
     out += "        x *= pow(h, " + std::to_string(q.scale_power) + ");\n";
     if (q.log_h_coefficient) out += "        x += " + s.constant(*q.log_h_coefficient) + " * log(h);\n";

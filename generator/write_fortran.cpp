@@ -267,7 +267,8 @@ std::string fortran_function(const CodeKernel& k, const CodeQuantity& q, const S
     }
     out += "    if (r > h) then\n      y = " + continued(piece_sum(s, q.exterior, true)) + "\n      return\n    end if\n";
     const std::string body = fortran_piece_chain(q, s, "    ", "  ");
-    const bool q_used = uses(body, "q"), e_used = uses(body, "e");
+    const std::string code = without_comments(body, "!", "\n");
+    const bool q_used = uses(code, "q"), e_used = uses(code, "e");
     out.replace(out.find("@E@"), 3, std::string(q_used ? ", q" : "") + (e_used ? ", e" : ""));
     out += std::string(q_used ? "    q = r / h\n" : "") + (e_used ? "    e = (h - r) / h\n" : "") + body;
     out += "    y = y * h**real(" + std::to_string(q.scale_power) + ", c_double)\n";

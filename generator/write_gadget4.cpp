@@ -75,7 +75,7 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     if (gravity) {
         const std::vector<Radial> g = gadget_gfactors(k, max_gfactor);
         finite = finite_at_origin(g);
-        if (finite >= 0) plummer = value_at(g[0].pieces.front(), Q(0));  // g(0) = E_0(0)/h = 1/eps
+        if (finite >= 0) plummer = plummer_equivalent(g[0], facts.spec);  // E_0 = g
         for (std::size_t n = 0; static_cast<int>(n) <= finite; ++n) {
             rounded.push_back(round_or_fail(g[n], true, {}, "fac" + std::to_string(n)));
             names.push_back({prefix + "_fac" + std::to_string(n), "E_" + std::to_string(n) + "(u), fac" + std::to_string(n) +

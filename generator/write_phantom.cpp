@@ -128,7 +128,8 @@ std::string unit_function(const UnitFunction& u, const CodeQuantity& q, const Sy
     out += " pure function " + name + "(q) result(y)\n  real(c_double), intent(in) :: q\n  real(c_double) :: y@E@\n";
     const std::string body = fortran_piece_chain(q, s, "  ", " ");
     const std::string outside = piece_sum(s, q.exterior, true);
-    const bool r_used = uses(body, "r") || uses(outside, "r"), h_used = uses(body, "h"), e_used = uses(body, "e");
+    const std::string code = without_comments(body, "!", "\n");
+    const bool r_used = uses(code, "r") || uses(outside, "r"), h_used = uses(code, "h"), e_used = uses(code, "e");
     out.replace(out.find("@E@"), 3, std::string(r_used ? ", r" : "") + (h_used ? ", h" : "") + (e_used ? ", e" : ""));
     out += std::string(r_used ? "  r = q\n" : "") + (h_used ? "  h = 1.0_c_double\n" : "");
     out += "  if (q > 1.0_c_double) then\n   y = " + continued(outside) + "\n   return\n  end if\n";

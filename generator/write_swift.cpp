@@ -341,10 +341,7 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
         functions += c_unit_function(fs[i].name, fs[i].meaning, code_quantity(fs[i].name, rounded[i], constants), s);
 
     // H = -W_pot(0) eps: the potential at 0 equal to Plummer's
-    const Exact plummer = value_at(fs[0].f.pieces.front(), Q(0)) * Exact(Q(-1));
-    if (!(plummer.evaluate(64).first > 0))
-        fail("--target swift: kernel " + facts.spec + ": W_pot(0) = " + (plummer * Exact(Q(-1))).to_string() +
-             " >= 0, no Plummer-equivalent softening");
+    const Exact plummer = plummer_equivalent(fs[0].f * Exact(Q(-1)), facts.spec);  // g = -W_pot
     const SwiftConstant p{plummer, Q(1)};
     SwiftConstant p_inv{plummer.is_rational() ? Exact(Q(1) / plummer.rational()) : plummer.inverse(), Q(1)};
 

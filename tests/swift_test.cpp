@@ -296,15 +296,6 @@ void check_kernel(const fs::path& root, const std::string& spec, int dim, bool c
         EXPECT_NE(r.status, 0) << "SELF_GRAVITY_MULTIPOLE_ORDER = " << orders - 1 << " needs D_soft_" << orders + 1;
         EXPECT_NE(r.err.find("D_soft_" + std::to_string(orders + 1) + " and higher are not certified"), std::string::npos) << r.err;
     }
-    // SWIFT's default configure defines WITH_VECTORIZATION; only the GADGET-2 SPH scheme's hand-vectorised
-    // loops (runner_doiact_hydro_vec.c) call SIMD kernel functions, which the file does not give: it compiles
-    // beside every other scheme, and with GADGET2_SPH it is an #error naming SWIFT's --disable-hand-vec.
-    ASSERT_NO_FATAL_FAILURE(run_in(dir, "gcc with WITH_VECTORIZATION", cc + defines + " -DWITH_VECTORIZATION -c driver.c -o vectorised.o"));
-    const auto gadget2 = run_command("cd '" + dir.string() + "' && " + cc + defines +
-                                         " -DWITH_VECTORIZATION -DGADGET2_SPH -c driver.c -o gadget2.o",
-                                     dir / "capture");
-    EXPECT_NE(gadget2.status, 0) << "WITH_VECTORIZATION with GADGET2_SPH compiled";
-    EXPECT_NE(gadget2.err.find("configure SWIFT with --disable-hand-vec"), std::string::npos) << gadget2.err;
     // The same driver built with SWIFT's optimisation flags, run in its own folder.
     const fs::path swift_built = dir / "swift_cflags";
     fs::create_directories(swift_built);
@@ -595,6 +586,26 @@ TEST(SwiftErrors, KernelsSwiftCannotTakeAreNamedWithTheReason) {
     const std::string m = error_of("mollifier:M=2,order=4", 3);
     EXPECT_NE(m.find("mollifier:M=2,order=4"), std::string::npos) << m;
     EXPECT_NE(m.find("second moment 0"), std::string::npos) << m;
+}
+
+// SWIFT's default configure defines WITH_VECTORIZATION; only the GADGET-2 SPH
+// scheme's hand-vectorised loops (runner_doiact_hydro_vec.c) call SIMD kernel
+// functions, which the files do not give: a file compiles beside every other
+// scheme, and with GADGET2_SPH it is an #error naming SWIFT's --disable-hand-vec
+// (one writer line for every file: the golden cubic spline's checked).
+TEST(Swift, SimdFunctionsAreAnErrorOnlyWhereGadget2SphNeedsThem) {
+    const fs::path dir = work_dir() / "vectorisation";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path header = fs::path(MOLLIFY_PEERS_GOLDEN_DIR) / "swift" / "cubic_spline_D3" / "kernel_hydro.h";
+    std::ofstream(dir / "driver.c") << "#include \"" << header.string()
+                                    << "\"\nint main(void) {\n  float w, dw;\n  kernel_deval(0.5f, &w, &dw);\n  return !(w > 0);\n}\n";
+    const std::string build = cc + " -DHYDRO_DIMENSION_3D -DWITH_VECTORIZATION";
+    ASSERT_NO_FATAL_FAILURE(run_in(dir, "gcc with WITH_VECTORIZATION", build + " driver.c -o vectorised -lm"));
+    ASSERT_NO_FATAL_FAILURE(run_in(dir, "the driver", "./vectorised"));
+    const auto gadget2 = run_command("cd '" + dir.string() + "' && " + build + " -DGADGET2_SPH -c driver.c -o gadget2.o", dir / "capture");
+    EXPECT_NE(gadget2.status, 0) << "WITH_VECTORIZATION with GADGET2_SPH compiled";
+    EXPECT_NE(gadget2.err.find("configure SWIFT with --disable-hand-vec"), std::string::npos) << gadget2.err;
 }
 
 // tests/golden/peers/swift regenerated: any change of the writer's output
