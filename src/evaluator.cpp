@@ -66,7 +66,7 @@ inline DoubleDouble ipow_rt(const DoubleDouble& x, int n) {
             first = false;
         }
         if (m == 1) break;
-        square = square * square;
+        square = detail::square(square);
     }
     return out;
 }
