@@ -75,8 +75,7 @@ public:
     // h = m 2^e with m in [1/2, 1): m, 2^-e (exact) and 1/m as a double-double
     // (hi + lo). Precision::accurate takes a whole Wendland-like quantity's
     // edge factor (1 - q)^P as (m - r 2^-e)^P m^-P, whose base is exact in
-    // four operations, one of them a product (detail::unit_distance), where
-    // (h - r)/h needs seven.
+    // three operations (detail::unit_distance), where (h - r)/h needs seven.
     double significand() const { return significand_; }
     double binary_unit() const { return binary_unit_; }
     double inverse_significand() const { return inverse_significand_; }
