@@ -1169,7 +1169,9 @@ MOLLIFY_FLATTEN bool whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
     const double *vc = VS ? v.m.data() : v.c, *gc = GS ? g.m.data() : g.c;
     for (int j = 0; j < VN; ++j) vk[j] = vc[j], vl[j] = v.c_lo[static_cast<std::size_t>(j)];
     for (int j = 0; j < GN; ++j) gk[j] = gc[j], gl[j] = g.c_lo[static_cast<std::size_t>(j)];
-    const SplitArgs v_sp = split_args(v), g_sp = split_args(g);
+    // One grid for both where both split (the plan's one_split_grid): W's
+    // constant for W'/r too, so that q is split once a point (the same value).
+    const SplitArgs v_sp = split_args(v), g_sp{VS && GS ? v_sp.c : g.split_c, g.content, g.content_lo};
     const double v_scale = s.scale(QuantityId::value), g_scale = s.scale(QuantityId::grad_over_r);
     // (single_scale: a split term's content joins the scale, which has m^-P
     // where the edge is in units of 2^e)

@@ -259,6 +259,16 @@ int whole_pair_index(int dim, int value, int over_r) {
     return -1;
 }
 
+// W's and W'/r's whole terms split q on one grid where both split (the
+// generator's with_one_split_grid; a table file may differ): the whole pair
+// loop then splits q once for both (whole_pairs_fixed), as StaticKernel's,
+// whose two grids are one constant. Two grids take the general loops.
+bool one_split_grid(const QuantityPlan& value, const QuantityPlan& over_r) {
+    const TermPlan& v = value.inner.front().terms.front();
+    const TermPlan& g = over_r.inner.front().terms.front();
+    return !(v.split > 0 && g.split > 0) || v.split_c == g.split_c;
+}
+
 // Are W's and W'/r's shared terms at the same radii, term for term (edge,
 // its low part, and the range's end)? The pair loop then takes each
 // distance once for both (AccurateSharedTerms::sum from W's radii), and
@@ -314,6 +324,7 @@ std::shared_ptr<const Plan> make_plan(const table::Kernel& k, std::shared_ptr<co
     const QuantityPlan& value = plan->quantities[static_cast<std::size_t>(table::QuantityId::value)];
     const QuantityPlan& over_r = plan->quantities[static_cast<std::size_t>(table::QuantityId::grad_over_r)];
     plan->whole_pair = whole_pair_index(k.dim, value.whole, over_r.whole);
+    if (plan->whole_pair >= 0 && !one_split_grid(value, over_r)) plan->whole_pair = -1;
     plan->shared_pair = shared_pair_index(k.dim, value, over_r);
     plan->pieces_pair = pieces_pair_index(k.dim, value, over_r);
     return plan;

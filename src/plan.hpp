@@ -97,7 +97,7 @@ struct Plan {
     std::shared_ptr<const table::Kernel> owner;  // tables loaded at run time; null for the compiled-in ones
     std::array<QuantityPlan, table::quantity_count> quantities;
     bool odd;
-    int whole_pair = -1;  // W and W'/r both whole: their index in whole_pairs, or -1
+    int whole_pair = -1;  // W and W'/r both whole (one split grid where both split): their index in whole_pairs, or -1
     int shared_pair = -1;  // W and W'/r both a combination's shared terms: their index in shared_pairs, or -1
     int pieces_pair = -1;  // W and W'/r both pieces_fused at the same breakpoints: their index in pieces_pairs, or -1
 };
