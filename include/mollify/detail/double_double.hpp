@@ -87,7 +87,8 @@ inline DoubleDouble two_product(double a, double b) {
 // enters last: in a power chain a is the later factor (ipow's x^(2^k), an
 // edge factor times its polynomial), so the low part waits on a.lo through
 // one FMA, not two (Wendland C4's accurate pairs on Zen 5: with square()
-// below, 2.49-2.54 -> 2.32-2.35 time-stamp ticks a point, README "Status").
+// below, 2.49-2.54 -> 2.32-2.35 time-stamp ticks a point: README, "Double-
+// double squares and the order of a product's cross terms").
 inline DoubleDouble operator*(const DoubleDouble& a, const DoubleDouble& b) {
     const DoubleDouble p = two_product(a.hi, b.hi);
     return {p.hi, mul_add(a.lo, b.hi, mul_add(a.hi, b.lo, p.lo))};
