@@ -106,9 +106,8 @@ inline AccurateRadius accurate_radius(double r, double h, double inv_h) {
 // binary_unit), for r <= h: r 2^-e is exact (barring underflow, below 2^-1000
 // of m), and m - r 2^-e a fast two-sum (m >= r 2^-e), three operations
 // where (h - r)/h in double-double takes seven (accurate_radius: a two-sum,
-// then a division's residual). (As a product and three sums it is the same
-// bits, and GCC contracts it back into these two FMAs.) It is
-// h (1 - q) 2^-e = m (1 - q), so a quantity's edge factor (1 - q)^P is (m - r 2^-e)^P m^-P, and m^-P joins
+// then a division's residual). It is h (1 - q) 2^-e = m (1 - q), so a
+// quantity's edge factor (1 - q)^P is (m - r 2^-e)^P m^-P, and m^-P joins
 // its scale once per batch (unit_edge_scale). Beyond h, where the quantity
 // is 0 and this is not read, some finite number.
 inline DoubleDouble unit_distance(double r, double binary_unit, double significand) {
