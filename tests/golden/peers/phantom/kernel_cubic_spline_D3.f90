@@ -148,12 +148,13 @@ contains
   ! The evaluation helpers of mollify's Precision::fast form
   ! (include/mollify/detail/evaluate.hpp).
 
-  pure function horner(a, v) result(y)
-    real(c_double), intent(in) :: a(:), v
+  pure function horner(a, n, v) result(y)
+    integer, intent(in) :: n
+    real(c_double), intent(in) :: a(n), v
     real(c_double) :: y
     integer :: k
-    y = a(size(a))
-    do k = size(a) - 1, 1, -1
+    y = a(n)
+    do k = n - 1, 1, -1
       y = y * v + a(k)
     end do
   end function horner
@@ -176,10 +177,10 @@ contains
   e = 1.0_c_double - q
   ! [0, 1/2)
   if (q < b(0)) then
-   y = horner(c(0:3), q)
+   y = horner(c(0:3), 4, q)
   ! [1/2, 1)
   else
-   y = horner(c(4:4), q) * e**3
+   y = c(4) * e**3
   end if
  end function u_w
 
@@ -194,10 +195,10 @@ contains
   e = 1.0_c_double - q
   ! [0, 1/2)
   if (q < b(0)) then
-   y = horner(c(5:6), q) * q
+   y = horner(c(5:6), 2, q) * q
   ! [1/2, 1)
   else
-   y = horner(c(7:7), q) * e**2
+   y = c(7) * e**2
   end if
  end function u_grkern
 
@@ -212,10 +213,10 @@ contains
   e = 1.0_c_double - q
   ! [0, 1/2)
   if (q < b(0)) then
-   y = horner(c(8:11), q) * q**2
+   y = horner(c(8:11), 4, q) * q**2
   ! [1/2, 1)
   else
-   y = horner(c(12:12), q) * q**2 * e**3
+   y = c(12) * q**2 * e**3
   end if
  end function u_drag
 
@@ -226,17 +227,17 @@ contains
   r = q
   h = 1.0_c_double
   if (q > 1.0_c_double) then
-   y = horner(c(22:22), r * r) * r**(-1)
+   y = c(22) * r**(-1)
    return
   end if
   e = 1.0_c_double - q
   ! [0, 1/2), Taylor polynomial about 1/4
   if (q < b(0)) then
-   y = horner(c(13:18), shifted(r, h, b(1), 0.0_c_double))
+   y = horner(c(13:18), 6, shifted(r, h, b(1), 0.0_c_double))
   ! [1/2, 1)
   else
-   y = horner(c(19:19), q * q) * q**(-1) &
-        + horner(c(20:21), q) * q**(-1) * e**5
+   y = c(19) * q**(-1) &
+        + horner(c(20:21), 2, q) * q**(-1) * e**5
   end if
  end function u_phi
 
@@ -247,20 +248,20 @@ contains
   r = q
   h = 1.0_c_double
   if (q > 1.0_c_double) then
-   y = horner(c(36:36), r * r) * r**(-2)
+   y = c(36) * r**(-2)
    return
   end if
   e = 1.0_c_double - q
   ! [0, 1/4)
   if (q < b(1)) then
-   y = horner(c(23:26), q) * q
+   y = horner(c(23:26), 4, q) * q
   ! [1/4, 1/2), Taylor polynomial about 3/8
   else if (q < b(0)) then
-   y = horner(c(27:31), shifted(r, h, b(2), 0.0_c_double))
+   y = horner(c(27:31), 5, shifted(r, h, b(2), 0.0_c_double))
   ! [1/2, 1)
   else
-   y = horner(c(32:32), q * q) * q**(-2) &
-        + horner(c(33:35), q) * q**(-2) * e**4
+   y = c(32) * q**(-2) &
+        + horner(c(33:35), 3, q) * q**(-2) * e**4
   end if
  end function u_fsoft
 
@@ -275,10 +276,10 @@ contains
   e = 1.0_c_double - q
   ! [0, 1/2)
   if (q < b(0)) then
-   y = horner(c(37:42), q)
+   y = horner(c(37:42), 6, q)
   ! [1/2, 1)
   else
-   y = horner(c(43:44), q) * e**4
+   y = horner(c(43:44), 2, q) * e**4
   end if
  end function u_dphidh
 
@@ -289,20 +290,20 @@ contains
   r = q
   h = 1.0_c_double
   if (q > 1.0_c_double) then
-   y = horner(c(57:57), r * r) * r**(-2)
+   y = c(57) * r**(-2)
    return
   end if
   e = 1.0_c_double - q
   ! [0, 1/4)
   if (q < b(1)) then
-   y = horner(c(45:46), q) * q**3
+   y = horner(c(45:46), 2, q) * q**3
   ! [1/4, 1/2), Taylor polynomial about 3/8
   else if (q < b(0)) then
-   y = horner(c(47:51), shifted(r, h, b(2), 0.0_c_double))
+   y = horner(c(47:51), 5, shifted(r, h, b(2), 0.0_c_double))
   ! [1/2, 1)
   else
-   y = horner(c(52:52), q * q) * q**(-2) &
-        + horner(c(53:56), q) * q**(-2) * e**3
+   y = c(52) * q**(-2) &
+        + horner(c(53:56), 4, q) * q**(-2) * e**3
   end if
  end function u_gsoft
 

@@ -159,12 +159,13 @@ contains
   ! The evaluation helpers of mollify's Precision::fast form
   ! (include/mollify/detail/evaluate.hpp).
 
-  pure function horner(a, v) result(y)
-    real(c_double), intent(in) :: a(:), v
+  pure function horner(a, n, v) result(y)
+    integer, intent(in) :: n
+    real(c_double), intent(in) :: a(n), v
     real(c_double) :: y
     integer :: k
-    y = a(size(a))
-    do k = size(a) - 1, 1, -1
+    y = a(n)
+    do k = n - 1, 1, -1
       y = y * v + a(k)
     end do
   end function horner
@@ -186,7 +187,7 @@ contains
   end if
   e = 1.0_c_double - q
   ! [0, 1)
-   y = horner(c(0:1), q) * e**4
+   y = horner(c(0:1), 2, q) * e**4
  end function u_w
 
  ! dw/dq = s'(x)/2, x = q/radkern
@@ -199,7 +200,7 @@ contains
   end if
   e = 1.0_c_double - q
   ! [0, 1)
-   y = horner(c(2:2), q) * q * e**3
+   y = c(2) * q * e**3
  end function u_grkern
 
  ! q^2 w(q) = 4 x^2 s(x), x = q/radkern
@@ -212,7 +213,7 @@ contains
   end if
   e = 1.0_c_double - q
   ! [0, 1)
-   y = horner(c(3:4), q) * q**2 * e**4
+   y = horner(c(3:4), 2, q) * q**2 * e**4
  end function u_drag
 
  ! phi(q) = G(x)/2, G = 4 pi phi_1, x = q/radkern
@@ -222,17 +223,17 @@ contains
   r = q
   h = 1.0_c_double
   if (q > 1.0_c_double) then
-   y = horner(c(17:17), r * r) * r**(-1)
+   y = c(17) * r**(-1)
    return
   end if
   e = 1.0_c_double - q
   ! [0, 1/2), Taylor polynomial about 1/4
   if (q < b(0)) then
-   y = horner(c(5:12), shifted(r, h, b(1), 0.0_c_double))
+   y = horner(c(5:12), 8, shifted(r, h, b(1), 0.0_c_double))
   ! [1/2, 1)
   else
-   y = horner(c(13:13), q * q) * q**(-1) &
-        + horner(c(14:16), q) * q**(-1) * e**6
+   y = c(13) * q**(-1) &
+        + horner(c(14:16), 3, q) * q**(-1) * e**6
   end if
  end function u_phi
 
@@ -243,23 +244,23 @@ contains
   r = q
   h = 1.0_c_double
   if (q > 1.0_c_double) then
-   y = horner(c(43:43), r * r) * r**(-2)
+   y = c(43) * r**(-2)
    return
   end if
   e = 1.0_c_double - q
   ! [0, 1/8)
   if (q < b(2)) then
-   y = horner(c(18:23), q) * q
+   y = horner(c(18:23), 6, q) * q
   ! [1/8, 1/4), Taylor polynomial about 3/16
   else if (q < b(1)) then
-   y = horner(c(24:30), shifted(r, h, b(3), 0.0_c_double))
+   y = horner(c(24:30), 7, shifted(r, h, b(3), 0.0_c_double))
   ! [1/4, 1/2), Taylor polynomial about 3/8
   else if (q < b(0)) then
-   y = horner(c(31:37), shifted(r, h, b(4), 0.0_c_double))
+   y = horner(c(31:37), 7, shifted(r, h, b(4), 0.0_c_double))
   ! [1/2, 1)
   else
-   y = horner(c(38:38), q * q) * q**(-2) &
-        + horner(c(39:42), q) * q**(-2) * e**5
+   y = c(38) * q**(-2) &
+        + horner(c(39:42), 4, q) * q**(-2) * e**5
   end if
  end function u_fsoft
 
@@ -273,7 +274,7 @@ contains
   end if
   e = 1.0_c_double - q
   ! [0, 1)
-   y = horner(c(44:46), q) * e**5
+   y = horner(c(44:46), 3, q) * e**5
  end function u_dphidh
 
  ! q phi'' - phi' = (x G'' - G')/4, x = q/radkern
@@ -283,18 +284,18 @@ contains
   r = q
   h = 1.0_c_double
   if (q > 1.0_c_double) then
-   y = horner(c(65:65), r * r) * r**(-2)
+   y = c(65) * r**(-2)
    return
   end if
   ! [0, 1/4)
   if (q < b(1)) then
-   y = horner(c(47:50), q) * q**3
+   y = horner(c(47:50), 4, q) * q**3
   ! [1/4, 1/2), Taylor polynomial about 3/8
   else if (q < b(0)) then
-   y = horner(c(51:57), shifted(r, h, b(4), 0.0_c_double))
+   y = horner(c(51:57), 7, shifted(r, h, b(4), 0.0_c_double))
   ! [1/2, 1), Taylor polynomial about 3/4
   else
-   y = horner(c(58:64), shifted(r, h, b(5), 0.0_c_double))
+   y = horner(c(58:64), 7, shifted(r, h, b(5), 0.0_c_double))
   end if
  end function u_gsoft
 

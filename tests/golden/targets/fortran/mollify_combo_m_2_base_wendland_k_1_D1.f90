@@ -148,12 +148,13 @@ contains
   ! The evaluation helpers of mollify's Precision::fast form
   ! (include/mollify/detail/evaluate.hpp).
 
-  pure function horner(a, v) result(y)
-    real(c_double), intent(in) :: a(:), v
+  pure function horner(a, n, v) result(y)
+    integer, intent(in) :: n
+    real(c_double), intent(in) :: a(n), v
     real(c_double) :: y
     integer :: k
-    y = a(size(a))
-    do k = size(a) - 1, 1, -1
+    y = a(n)
+    do k = n - 1, 1, -1
       y = y * v + a(k)
     end do
   end function horner
@@ -217,11 +218,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(0:1), q) * to_edge(r, h, b(0))**3 &
-        + horner(c(2:3), q) * e**3
+      y = horner(c(0:1), 2, q) * to_edge(r, h, b(0))**3 &
+        + horner(c(2:3), 2, q) * e**3
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(4:5), q) * e**3
+      y = horner(c(4:5), 2, q) * e**3
     end if
     y = y * h**real(-1, c_double)
   end function kernel_value_h
@@ -250,11 +251,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(6:6), q) * q * to_edge(r, h, b(0))**2 &
-        + horner(c(7:7), q) * q * e**2
+      y = c(6) * q * to_edge(r, h, b(0))**2 &
+        + c(7) * q * e**2
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(8:8), q) * q * e**2
+      y = c(8) * q * e**2
     end if
     y = y * h**real(-2, c_double)
   end function kernel_dr_h
@@ -283,11 +284,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(9:10), q) * to_edge(r, h, b(0)) &
-        + horner(c(11:12), q) * e
+      y = horner(c(9:10), 2, q) * to_edge(r, h, b(0)) &
+        + horner(c(11:12), 2, q) * e
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(13:14), q) * e
+      y = horner(c(13:14), 2, q) * e
     end if
     y = y * h**real(-3, c_double)
   end function kernel_d2r_h
@@ -316,11 +317,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(15:16), q) * to_edge(r, h, b(0)) &
-        + horner(c(17:18), q) * e
+      y = horner(c(15:16), 2, q) * to_edge(r, h, b(0)) &
+        + horner(c(17:18), 2, q) * e
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(19:20), q) * e
+      y = horner(c(19:20), 2, q) * e
     end if
     y = y * h**real(-3, c_double)
   end function kernel_laplacian_h
@@ -349,11 +350,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(21:21), q) * to_edge(r, h, b(0))**2 &
-        + horner(c(22:22), q) * e**2
+      y = c(21) * to_edge(r, h, b(0))**2 &
+        + c(22) * e**2
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(23:23), q) * e**2
+      y = c(23) * e**2
     end if
     y = y * h**real(-3, c_double)
   end function kernel_grad_over_r_h
@@ -387,11 +388,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = at_origin(horner(c(24:24), q) * q**(-1) * to_edge(r, h, b(0)) &
-        + horner(c(25:25), q) * q**(-1) * e, ieee_value(1.0_c_double, ieee_positive_inf))
+      y = at_origin(c(24) * q**(-1) * to_edge(r, h, b(0)) &
+        + c(25) * q**(-1) * e, ieee_value(1.0_c_double, ieee_positive_inf))
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(26:26), q) * q**(-1) * e
+      y = c(26) * q**(-1) * e
     end if
     y = y * h**real(-5, c_double)
   end function kernel_hess_radial_h
@@ -413,23 +414,23 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(47:47), r * r) * r
+      y = c(47) * r
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/4), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(3)) then
-      y = horner(c(27:33), q)
+      y = horner(c(27:33), 7, q)
     ! [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     else if (q < b(0)) then
-      y = horner(c(34:34), q * q) * q &
-        + horner(c(35:36), q) * to_edge(r, h, b(0))**5 &
-        + horner(c(37:43), q)
+      y = c(34) * q &
+        + horner(c(35:36), 2, q) * to_edge(r, h, b(0))**5 &
+        + horner(c(37:43), 7, q)
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(44:44), q * q) * q &
-        + horner(c(45:46), q) * e**5
+      y = c(44) * q &
+        + horner(c(45:46), 2, q) * e**5
     end if
     y = y * h**real(1, c_double)
   end function kernel_potential_h
@@ -451,24 +452,24 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(68:68), r * r)
+      y = c(68)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(4)) then
-      y = horner(c(48:52), q) * q
+      y = horner(c(48:52), 5, q) * q
     ! [1/8, 1/4), Taylor polynomial about 3/16
     else if (q < b(3)) then
-      y = horner(c(53:58), shifted(r, h, b(5), 0.0_c_double))
+      y = horner(c(53:58), 6, shifted(r, h, b(5), 0.0_c_double))
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(59:64), shifted(r, h, b(6), 0.0_c_double))
+      y = horner(c(59:64), 6, shifted(r, h, b(6), 0.0_c_double))
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(65:65), q * q) &
-        + horner(c(66:67), q) * e**4
+      y = c(65) &
+        + horner(c(66:67), 2, q) * e**4
     end if
     y = y * h**real(0, c_double)
   end function kernel_dpotential_h
@@ -490,23 +491,23 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(85:85), r * r) * r**(-1)
+      y = c(85) * r**(-1)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/4), Taylor polynomial about 1/8
     if (q < b(3)) then
-      y = horner(c(69:73), shifted(r, h, b(4), 0.0_c_double))
+      y = horner(c(69:73), 5, shifted(r, h, b(4), 0.0_c_double))
     ! [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     else if (q < b(0)) then
-      y = horner(c(74:74), q * q) * q**(-1) &
-        + horner(c(75:76), q) * q**(-1) * to_edge(r, h, b(0))**4 &
-        + horner(c(77:81), q)
+      y = c(74) * q**(-1) &
+        + horner(c(75:76), 2, q) * q**(-1) * to_edge(r, h, b(0))**4 &
+        + horner(c(77:81), 5, q)
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(82:82), q * q) * q**(-1) &
-        + horner(c(83:84), q) * q**(-1) * e**4
+      y = c(82) * q**(-1) &
+        + horner(c(83:84), 2, q) * q**(-1) * e**4
     end if
     y = y * h**real(-1, c_double)
   end function kernel_dpotential_over_r_h
@@ -528,24 +529,24 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(99:99), r * r) * r**(-3)
+      y = c(99) * r**(-3)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), Taylor polynomial about 1/16
     if (q < b(4)) then
-      y = horner(c(86:88), shifted(r, h, b(7), 0.0_c_double))
+      y = horner(c(86:88), 3, shifted(r, h, b(7), 0.0_c_double))
     ! [1/8, 1/4), Taylor polynomial about 3/16
     else if (q < b(3)) then
-      y = horner(c(89:91), shifted(r, h, b(5), 0.0_c_double))
+      y = horner(c(89:91), 3, shifted(r, h, b(5), 0.0_c_double))
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(92:94), shifted(r, h, b(6), 0.0_c_double))
+      y = horner(c(92:94), 3, shifted(r, h, b(6), 0.0_c_double))
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(95:95), q * q) * q**(-3) &
-        + horner(c(96:98), q) * q**(-3) * e**3
+      y = c(95) * q**(-3) &
+        + horner(c(96:98), 3, q) * q**(-3) * e**3
     end if
     y = y * h**real(-3, c_double)
   end function kernel_potential_hess_radial_h

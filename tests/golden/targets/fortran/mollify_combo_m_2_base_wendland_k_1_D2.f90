@@ -205,12 +205,13 @@ contains
   ! The evaluation helpers of mollify's Precision::fast form
   ! (include/mollify/detail/evaluate.hpp).
 
-  pure function horner(a, v) result(y)
-    real(c_double), intent(in) :: a(:), v
+  pure function horner(a, n, v) result(y)
+    integer, intent(in) :: n
+    real(c_double), intent(in) :: a(n), v
     real(c_double) :: y
     integer :: k
-    y = a(size(a))
-    do k = size(a) - 1, 1, -1
+    y = a(n)
+    do k = n - 1, 1, -1
       y = y * v + a(k)
     end do
   end function horner
@@ -284,11 +285,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(0:1), q) * to_edge(r, h, b(0))**4 &
-        + horner(c(2:3), q) * e**4
+      y = horner(c(0:1), 2, q) * to_edge(r, h, b(0))**4 &
+        + horner(c(2:3), 2, q) * e**4
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(4:5), q) * e**4
+      y = horner(c(4:5), 2, q) * e**4
     end if
     y = y * h**real(-2, c_double)
   end function kernel_value_h
@@ -317,11 +318,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(6:6), q) * q * to_edge(r, h, b(0))**3 &
-        + horner(c(7:7), q) * q * e**3
+      y = c(6) * q * to_edge(r, h, b(0))**3 &
+        + c(7) * q * e**3
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(8:8), q) * q * e**3
+      y = c(8) * q * e**3
     end if
     y = y * h**real(-3, c_double)
   end function kernel_dr_h
@@ -350,11 +351,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(9:10), q) * to_edge(r, h, b(0))**2 &
-        + horner(c(11:12), q) * e**2
+      y = horner(c(9:10), 2, q) * to_edge(r, h, b(0))**2 &
+        + horner(c(11:12), 2, q) * e**2
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(13:14), q) * e**2
+      y = horner(c(13:14), 2, q) * e**2
     end if
     y = y * h**real(-4, c_double)
   end function kernel_d2r_h
@@ -383,11 +384,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(15:16), q) * to_edge(r, h, b(0))**2 &
-        + horner(c(17:18), q) * e**2
+      y = horner(c(15:16), 2, q) * to_edge(r, h, b(0))**2 &
+        + horner(c(17:18), 2, q) * e**2
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(19:20), q) * e**2
+      y = horner(c(19:20), 2, q) * e**2
     end if
     y = y * h**real(-4, c_double)
   end function kernel_laplacian_h
@@ -416,11 +417,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(21:21), q) * to_edge(r, h, b(0))**3 &
-        + horner(c(22:22), q) * e**3
+      y = c(21) * to_edge(r, h, b(0))**3 &
+        + c(22) * e**3
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(23:23), q) * e**3
+      y = c(23) * e**3
     end if
     y = y * h**real(-4, c_double)
   end function kernel_grad_over_r_h
@@ -454,11 +455,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = at_origin(horner(c(24:24), q) * q**(-1) * to_edge(r, h, b(0))**2 &
-        + horner(c(25:25), q) * q**(-1) * e**2, ieee_value(1.0_c_double, ieee_positive_inf))
+      y = at_origin(c(24) * q**(-1) * to_edge(r, h, b(0))**2 &
+        + c(25) * q**(-1) * e**2, ieee_value(1.0_c_double, ieee_positive_inf))
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(26:26), q) * q**(-1) * e**2
+      y = c(26) * q**(-1) * e**2
     end if
     y = y * h**real(-6, c_double)
   end function kernel_hess_radial_h
@@ -480,51 +481,51 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(73:73), r * r) * log(r)
+      y = c(73) * log(r)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(3)) then
-      y = horner(c(27:34), q)
+      y = horner(c(27:34), 8, q)
     ! [1/8, 3/8), per radius a_j, factored at a_j (Franz (4.17))
     else if (q < b(4)) then
-      y = horner(c(35:42), q) &
-        + horner(c(43:43), q) * to_edge(r, h, b(0)) &
-        + horner(c(44:44), q) * to_edge(r, h, b(0))**2 &
-        + horner(c(45:45), q) * to_edge(r, h, b(0))**3 &
-        + horner(c(46:46), q) * to_edge(r, h, b(0))**4 &
-        + horner(c(47:47), q) * to_edge(r, h, b(0))**5 &
-        + horner(c(48:48), q) * to_edge(r, h, b(0))**6 &
-        + horner(c(49:49), q) * to_edge(r, h, b(0))**7
+      y = horner(c(35:42), 8, q) &
+        + c(43) * to_edge(r, h, b(0)) &
+        + c(44) * to_edge(r, h, b(0))**2 &
+        + c(45) * to_edge(r, h, b(0))**3 &
+        + c(46) * to_edge(r, h, b(0))**4 &
+        + c(47) * to_edge(r, h, b(0))**5 &
+        + c(48) * to_edge(r, h, b(0))**6 &
+        + c(49) * to_edge(r, h, b(0))**7
     ! [3/8, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     else if (q < b(0)) then
-      y = horner(c(50:50), q) &
-        + horner(c(51:51), q) * to_edge(r, h, b(0)) &
-        + horner(c(52:52), q) * to_edge(r, h, b(0))**2 &
-        + horner(c(53:53), q) * to_edge(r, h, b(0))**3 &
-        + horner(c(54:54), q) * to_edge(r, h, b(0))**4 &
-        + horner(c(55:55), q) * to_edge(r, h, b(0))**5 &
-        + horner(c(56:56), q) * to_edge(r, h, b(0))**6 &
-        + horner(c(57:57), q) * to_edge(r, h, b(0))**7 &
-        + horner(c(58:58), q) * e &
-        + horner(c(59:59), q) * e**2 &
-        + horner(c(60:60), q) * e**3 &
-        + horner(c(61:61), q) * e**4 &
-        + horner(c(62:62), q) * e**5 &
-        + horner(c(63:63), q) * e**6 &
-        + horner(c(64:64), q) * e**7
+      y = c(50) &
+        + c(51) * to_edge(r, h, b(0)) &
+        + c(52) * to_edge(r, h, b(0))**2 &
+        + c(53) * to_edge(r, h, b(0))**3 &
+        + c(54) * to_edge(r, h, b(0))**4 &
+        + c(55) * to_edge(r, h, b(0))**5 &
+        + c(56) * to_edge(r, h, b(0))**6 &
+        + c(57) * to_edge(r, h, b(0))**7 &
+        + c(58) * e &
+        + c(59) * e**2 &
+        + c(60) * e**3 &
+        + c(61) * e**4 &
+        + c(62) * e**5 &
+        + c(63) * e**6 &
+        + c(64) * e**7
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(65:65), q * q) * log_q(q, e) &
-        + horner(c(66:66), q) * e &
-        + horner(c(67:67), q) * e**2 &
-        + horner(c(68:68), q) * e**3 &
-        + horner(c(69:69), q) * e**4 &
-        + horner(c(70:70), q) * e**5 &
-        + horner(c(71:71), q) * e**6 &
-        + horner(c(72:72), q) * e**7
+      y = c(65) * log_q(q, e) &
+        + c(66) * e &
+        + c(67) * e**2 &
+        + c(68) * e**3 &
+        + c(69) * e**4 &
+        + c(70) * e**5 &
+        + c(71) * e**6 &
+        + c(72) * e**7
     end if
     y = y * h**real(0, c_double)
     y = y + c(73) * log(h)
@@ -547,24 +548,24 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(98:98), r * r) * r**(-1)
+      y = c(98) * r**(-1)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(3)) then
-      y = horner(c(74:79), q) * q
+      y = horner(c(74:79), 6, q) * q
     ! [1/8, 1/4), Taylor polynomial about 3/16
     else if (q < b(5)) then
-      y = horner(c(80:86), shifted(r, h, b(6), 0.0_c_double))
+      y = horner(c(80:86), 7, shifted(r, h, b(6), 0.0_c_double))
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(87:93), shifted(r, h, b(4), 0.0_c_double))
+      y = horner(c(87:93), 7, shifted(r, h, b(4), 0.0_c_double))
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(94:94), q * q) * q**(-1) &
-        + horner(c(95:97), q) * q**(-1) * e**5
+      y = c(94) * q**(-1) &
+        + horner(c(95:97), 3, q) * q**(-1) * e**5
     end if
     y = y * h**real(-1, c_double)
   end function kernel_dpotential_h
@@ -586,26 +587,26 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(125:125), r * r) * r**(-2)
+      y = c(125) * r**(-2)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(3)) then
-      y = horner(c(99:104), q)
+      y = horner(c(99:104), 6, q)
     ! [1/8, 1/4), Taylor polynomial about 3/16
     else if (q < b(5)) then
-      y = horner(c(105:110), shifted(r, h, b(6), 0.0_c_double))
+      y = horner(c(105:110), 6, shifted(r, h, b(6), 0.0_c_double))
     ! [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     else if (q < b(0)) then
-      y = horner(c(111:111), q * q) * q**(-2) &
-        + horner(c(112:114), q) * q**(-2) * to_edge(r, h, b(0))**5 &
-        + horner(c(115:120), q)
+      y = c(111) * q**(-2) &
+        + horner(c(112:114), 3, q) * q**(-2) * to_edge(r, h, b(0))**5 &
+        + horner(c(115:120), 6, q)
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(121:121), q * q) * q**(-2) &
-        + horner(c(122:124), q) * q**(-2) * e**5
+      y = c(121) * q**(-2) &
+        + horner(c(122:124), 3, q) * q**(-2) * e**5
     end if
     y = y * h**real(-2, c_double)
   end function kernel_dpotential_over_r_h
@@ -627,26 +628,26 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(148:148), r * r) * r**(-4)
+      y = c(148) * r**(-4)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), Taylor polynomial about 1/16
     if (q < b(3)) then
-      y = horner(c(126:129), shifted(r, h, b(7), 0.0_c_double))
+      y = horner(c(126:129), 4, shifted(r, h, b(7), 0.0_c_double))
     ! [1/8, 1/4), Taylor polynomial about 3/16
     else if (q < b(5)) then
-      y = horner(c(130:133), shifted(r, h, b(6), 0.0_c_double))
+      y = horner(c(130:133), 4, shifted(r, h, b(6), 0.0_c_double))
     ! [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     else if (q < b(0)) then
-      y = horner(c(134:134), q * q) * q**(-4) &
-        + horner(c(135:138), q) * q**(-4) * to_edge(r, h, b(0))**4 &
-        + horner(c(139:142), q)
+      y = c(134) * q**(-4) &
+        + horner(c(135:138), 4, q) * q**(-4) * to_edge(r, h, b(0))**4 &
+        + horner(c(139:142), 4, q)
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(143:143), q * q) * q**(-4) &
-        + horner(c(144:147), q) * q**(-4) * e**4
+      y = c(143) * q**(-4) &
+        + horner(c(144:147), 4, q) * q**(-4) * e**4
     end if
     y = y * h**real(-4, c_double)
   end function kernel_potential_hess_radial_h

@@ -201,12 +201,13 @@ contains
   ! The evaluation helpers of mollify's Precision::fast form
   ! (include/mollify/detail/evaluate.hpp).
 
-  pure function horner(a, v) result(y)
-    real(c_double), intent(in) :: a(:), v
+  pure function horner(a, n, v) result(y)
+    integer, intent(in) :: n
+    real(c_double), intent(in) :: a(n), v
     real(c_double) :: y
     integer :: k
-    y = a(size(a))
-    do k = size(a) - 1, 1, -1
+    y = a(n)
+    do k = n - 1, 1, -1
       y = y * v + a(k)
     end do
   end function horner
@@ -270,11 +271,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(0:1), q) * to_edge(r, h, b(0))**4 &
-        + horner(c(2:3), q) * e**4
+      y = horner(c(0:1), 2, q) * to_edge(r, h, b(0))**4 &
+        + horner(c(2:3), 2, q) * e**4
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(4:5), q) * e**4
+      y = horner(c(4:5), 2, q) * e**4
     end if
     y = y * h**real(-3, c_double)
   end function kernel_value_h
@@ -303,11 +304,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(6:6), q) * q * to_edge(r, h, b(0))**3 &
-        + horner(c(7:7), q) * q * e**3
+      y = c(6) * q * to_edge(r, h, b(0))**3 &
+        + c(7) * q * e**3
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(8:8), q) * q * e**3
+      y = c(8) * q * e**3
     end if
     y = y * h**real(-4, c_double)
   end function kernel_dr_h
@@ -336,11 +337,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(9:10), q) * to_edge(r, h, b(0))**2 &
-        + horner(c(11:12), q) * e**2
+      y = horner(c(9:10), 2, q) * to_edge(r, h, b(0))**2 &
+        + horner(c(11:12), 2, q) * e**2
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(13:14), q) * e**2
+      y = horner(c(13:14), 2, q) * e**2
     end if
     y = y * h**real(-5, c_double)
   end function kernel_d2r_h
@@ -369,11 +370,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(15:16), q) * to_edge(r, h, b(0))**2 &
-        + horner(c(17:18), q) * e**2
+      y = horner(c(15:16), 2, q) * to_edge(r, h, b(0))**2 &
+        + horner(c(17:18), 2, q) * e**2
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(19:20), q) * e**2
+      y = horner(c(19:20), 2, q) * e**2
     end if
     y = y * h**real(-5, c_double)
   end function kernel_laplacian_h
@@ -402,11 +403,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(21:21), q) * to_edge(r, h, b(0))**3 &
-        + horner(c(22:22), q) * e**3
+      y = c(21) * to_edge(r, h, b(0))**3 &
+        + c(22) * e**3
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(23:23), q) * e**3
+      y = c(23) * e**3
     end if
     y = y * h**real(-5, c_double)
   end function kernel_grad_over_r_h
@@ -440,11 +441,11 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = at_origin(horner(c(24:24), q) * q**(-1) * to_edge(r, h, b(0))**2 &
-        + horner(c(25:25), q) * q**(-1) * e**2, ieee_value(1.0_c_double, ieee_positive_inf))
+      y = at_origin(c(24) * q**(-1) * to_edge(r, h, b(0))**2 &
+        + c(25) * q**(-1) * e**2, ieee_value(1.0_c_double, ieee_positive_inf))
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(26:26), q) * q**(-1) * e**2
+      y = c(26) * q**(-1) * e**2
     end if
     y = y * h**real(-7, c_double)
   end function kernel_hess_radial_h
@@ -466,24 +467,24 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(55:55), r * r) * r**(-1)
+      y = c(55) * r**(-1)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(3)) then
-      y = horner(c(27:34), q)
+      y = horner(c(27:34), 8, q)
     ! [1/8, 1/4), Taylor polynomial about 3/16
     else if (q < b(4)) then
-      y = horner(c(35:42), shifted(r, h, b(5), 0.0_c_double))
+      y = horner(c(35:42), 8, shifted(r, h, b(5), 0.0_c_double))
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(43:50), shifted(r, h, b(6), 0.0_c_double))
+      y = horner(c(43:50), 8, shifted(r, h, b(6), 0.0_c_double))
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(51:51), q * q) * q**(-1) &
-        + horner(c(52:54), q) * q**(-1) * e**6
+      y = c(51) * q**(-1) &
+        + horner(c(52:54), 3, q) * q**(-1) * e**6
     end if
     y = y * h**real(-1, c_double)
   end function kernel_potential_h
@@ -505,27 +506,27 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(88:88), r * r) * r**(-2)
+      y = c(88) * r**(-2)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(7)) then
-      y = horner(c(56:61), q) * q
+      y = horner(c(56:61), 6, q) * q
     ! [1/16, 1/8), Taylor polynomial about 3/32
     else if (q < b(3)) then
-      y = horner(c(62:68), shifted(r, h, b(8), 0.0_c_double))
+      y = horner(c(62:68), 7, shifted(r, h, b(8), 0.0_c_double))
     ! [1/8, 1/4), Taylor polynomial about 3/16
     else if (q < b(4)) then
-      y = horner(c(69:75), shifted(r, h, b(5), 0.0_c_double))
+      y = horner(c(69:75), 7, shifted(r, h, b(5), 0.0_c_double))
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(76:82), shifted(r, h, b(6), 0.0_c_double))
+      y = horner(c(76:82), 7, shifted(r, h, b(6), 0.0_c_double))
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(83:83), q * q) * q**(-2) &
-        + horner(c(84:87), q) * q**(-2) * e**5
+      y = c(83) * q**(-2) &
+        + horner(c(84:87), 4, q) * q**(-2) * e**5
     end if
     y = y * h**real(-2, c_double)
   end function kernel_dpotential_h
@@ -547,26 +548,26 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(117:117), r * r) * r**(-3)
+      y = c(117) * r**(-3)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), Taylor polynomial about 1/16
     if (q < b(3)) then
-      y = horner(c(89:94), shifted(r, h, b(7), 0.0_c_double))
+      y = horner(c(89:94), 6, shifted(r, h, b(7), 0.0_c_double))
     ! [1/8, 1/4), Taylor polynomial about 3/16
     else if (q < b(4)) then
-      y = horner(c(95:100), shifted(r, h, b(5), 0.0_c_double))
+      y = horner(c(95:100), 6, shifted(r, h, b(5), 0.0_c_double))
     ! [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     else if (q < b(0)) then
-      y = horner(c(101:101), q * q) * q**(-3) &
-        + horner(c(102:105), q) * q**(-3) * to_edge(r, h, b(0))**5 &
-        + horner(c(106:111), q)
+      y = c(101) * q**(-3) &
+        + horner(c(102:105), 4, q) * q**(-3) * to_edge(r, h, b(0))**5 &
+        + horner(c(106:111), 6, q)
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(112:112), q * q) * q**(-3) &
-        + horner(c(113:116), q) * q**(-3) * e**5
+      y = c(112) * q**(-3) &
+        + horner(c(113:116), 4, q) * q**(-3) * e**5
     end if
     y = y * h**real(-3, c_double)
   end function kernel_dpotential_over_r_h
@@ -588,32 +589,32 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(150:150), r * r) * r**(-5)
+      y = c(150) * r**(-5)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(7)) then
-      y = horner(c(118:121), q)
+      y = horner(c(118:121), 4, q)
     ! [1/16, 1/8), Taylor polynomial about 3/32
     else if (q < b(3)) then
-      y = horner(c(122:125), shifted(r, h, b(8), 0.0_c_double))
+      y = horner(c(122:125), 4, shifted(r, h, b(8), 0.0_c_double))
     ! [1/8, 1/4), Taylor polynomial about 3/16
     else if (q < b(4)) then
-      y = horner(c(126:129), shifted(r, h, b(5), 0.0_c_double))
+      y = horner(c(126:129), 4, shifted(r, h, b(5), 0.0_c_double))
     ! [1/4, 3/8), Taylor polynomial about 5/16
     else if (q < b(6)) then
-      y = horner(c(130:133), shifted(r, h, b(9), 0.0_c_double))
+      y = horner(c(130:133), 4, shifted(r, h, b(9), 0.0_c_double))
     ! [3/8, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     else if (q < b(0)) then
-      y = horner(c(134:134), q * q) * q**(-5) &
-        + horner(c(135:139), q) * q**(-5) * to_edge(r, h, b(0))**4 &
-        + horner(c(140:143), q)
+      y = c(134) * q**(-5) &
+        + horner(c(135:139), 5, q) * q**(-5) * to_edge(r, h, b(0))**4 &
+        + horner(c(140:143), 4, q)
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
-      y = horner(c(144:144), q * q) * q**(-5) &
-        + horner(c(145:149), q) * q**(-5) * e**4
+      y = c(144) * q**(-5) &
+        + horner(c(145:149), 5, q) * q**(-5) * e**4
     end if
     y = y * h**real(-5, c_double)
   end function kernel_potential_hess_radial_h

@@ -99,12 +99,13 @@ contains
   ! The evaluation helpers of mollify's Precision::fast form
   ! (include/mollify/detail/evaluate.hpp).
 
-  pure function horner(a, v) result(y)
-    real(c_double), intent(in) :: a(:), v
+  pure function horner(a, n, v) result(y)
+    integer, intent(in) :: n
+    real(c_double), intent(in) :: a(n), v
     real(c_double) :: y
     integer :: k
-    y = a(size(a))
-    do k = size(a) - 1, 1, -1
+    y = a(n)
+    do k = n - 1, 1, -1
       y = y * v + a(k)
     end do
   end function horner
@@ -161,10 +162,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(0:3), q)
+      y = horner(c(0:3), 4, q)
     ! [1/2, 1)
     else
-      y = horner(c(4:4), q) * e**3
+      y = c(4) * e**3
     end if
     y = y * h**real(-1, c_double)
   end function kernel_value_h
@@ -193,10 +194,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(5:6), q) * q
+      y = horner(c(5:6), 2, q) * q
     ! [1/2, 1)
     else
-      y = horner(c(7:7), q) * e**2
+      y = c(7) * e**2
     end if
     y = y * h**real(-2, c_double)
   end function kernel_dr_h
@@ -225,10 +226,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(8:9), q)
+      y = horner(c(8:9), 2, q)
     ! [1/2, 1)
     else
-      y = horner(c(10:10), q) * e
+      y = c(10) * e
     end if
     y = y * h**real(-3, c_double)
   end function kernel_d2r_h
@@ -257,10 +258,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(11:12), q)
+      y = horner(c(11:12), 2, q)
     ! [1/2, 1)
     else
-      y = horner(c(13:13), q) * e
+      y = c(13) * e
     end if
     y = y * h**real(-3, c_double)
   end function kernel_laplacian_h
@@ -289,10 +290,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(14:15), q)
+      y = horner(c(14:15), 2, q)
     ! [1/2, 1)
     else
-      y = horner(c(16:16), q) * q**(-1) * e**2
+      y = c(16) * q**(-1) * e**2
     end if
     y = y * h**real(-3, c_double)
   end function kernel_grad_over_r_h
@@ -326,10 +327,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = at_origin(horner(c(17:17), q * q) * q**(-1), ieee_value(1.0_c_double, ieee_positive_inf))
+      y = at_origin(c(17) * q**(-1), ieee_value(1.0_c_double, ieee_positive_inf))
     ! [1/2, 1)
     else
-      y = horner(c(18:18), q * q) * q**(-3) * (e * (b(3) + q))
+      y = c(18) * q**(-3) * (e * (b(3) + q))
     end if
     y = y * h**real(-5, c_double)
   end function kernel_hess_radial_h
@@ -351,18 +352,18 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(27:27), r * r) * r
+      y = c(27) * r
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(19:24), q)
+      y = horner(c(19:24), 6, q)
     ! [1/2, 1)
     else
-      y = horner(c(25:25), q * q) * q &
-        + horner(c(26:26), q) * e**5
+      y = c(25) * q &
+        + c(26) * e**5
     end if
     y = y * h**real(1, c_double)
   end function kernel_potential_h
@@ -384,21 +385,21 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(39:39), r * r)
+      y = c(39)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/4)
     if (q < b(4)) then
-      y = horner(c(28:31), q) * q
+      y = horner(c(28:31), 4, q) * q
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(32:36), shifted(r, h, b(5), 0.0_c_double))
+      y = horner(c(32:36), 5, shifted(r, h, b(5), 0.0_c_double))
     ! [1/2, 1)
     else
-      y = horner(c(37:37), q * q) &
-        + horner(c(38:38), q) * e**4
+      y = c(37) &
+        + c(38) * e**4
     end if
     y = y * h**real(0, c_double)
   end function kernel_dpotential_h
@@ -420,18 +421,18 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(46:46), r * r) * r**(-1)
+      y = c(46) * r**(-1)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/2), Taylor polynomial about 1/4
     if (q < b(0)) then
-      y = horner(c(40:43), shifted(r, h, b(4), 0.0_c_double))
+      y = horner(c(40:43), 4, shifted(r, h, b(4), 0.0_c_double))
     ! [1/2, 1)
     else
-      y = horner(c(44:44), q * q) * q**(-1) &
-        + horner(c(45:45), q) * q**(-1) * e**4
+      y = c(44) * q**(-1) &
+        + c(45) * q**(-1) * e**4
     end if
     y = y * h**real(-1, c_double)
   end function kernel_dpotential_over_r_h
@@ -453,18 +454,18 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(52:52), r * r) * r**(-3)
+      y = c(52) * r**(-3)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/2), Taylor polynomial about 1/4
     if (q < b(0)) then
-      y = horner(c(47:48), shifted(r, h, b(4), 0.0_c_double))
+      y = horner(c(47:48), 2, shifted(r, h, b(4), 0.0_c_double))
     ! [1/2, 1)
     else
-      y = horner(c(49:49), q * q) * q**(-3) &
-        + horner(c(50:51), q) * q**(-3) * e**3
+      y = c(49) * q**(-3) &
+        + horner(c(50:51), 2, q) * q**(-3) * e**3
     end if
     y = y * h**real(-3, c_double)
   end function kernel_potential_hess_radial_h

@@ -119,12 +119,13 @@ contains
   ! The evaluation helpers of mollify's Precision::fast form
   ! (include/mollify/detail/evaluate.hpp).
 
-  pure function horner(a, v) result(y)
-    real(c_double), intent(in) :: a(:), v
+  pure function horner(a, n, v) result(y)
+    integer, intent(in) :: n
+    real(c_double), intent(in) :: a(n), v
     real(c_double) :: y
     integer :: k
-    y = a(size(a))
-    do k = size(a) - 1, 1, -1
+    y = a(n)
+    do k = n - 1, 1, -1
       y = y * v + a(k)
     end do
   end function horner
@@ -191,10 +192,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(0:3), q)
+      y = horner(c(0:3), 4, q)
     ! [1/2, 1)
     else
-      y = horner(c(4:4), q) * e**3
+      y = c(4) * e**3
     end if
     y = y * h**real(-2, c_double)
   end function kernel_value_h
@@ -223,10 +224,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(5:6), q) * q
+      y = horner(c(5:6), 2, q) * q
     ! [1/2, 1)
     else
-      y = horner(c(7:7), q) * e**2
+      y = c(7) * e**2
     end if
     y = y * h**real(-3, c_double)
   end function kernel_dr_h
@@ -255,10 +256,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(8:9), q)
+      y = horner(c(8:9), 2, q)
     ! [1/2, 1)
     else
-      y = horner(c(10:10), q) * e
+      y = c(10) * e
     end if
     y = y * h**real(-4, c_double)
   end function kernel_d2r_h
@@ -287,10 +288,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(11:12), q)
+      y = horner(c(11:12), 2, q)
     ! [1/2, 1)
     else
-      y = horner(c(13:14), q) * q**(-1) * e
+      y = horner(c(13:14), 2, q) * q**(-1) * e
     end if
     y = y * h**real(-4, c_double)
   end function kernel_laplacian_h
@@ -319,10 +320,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(15:16), q)
+      y = horner(c(15:16), 2, q)
     ! [1/2, 1)
     else
-      y = horner(c(17:17), q) * q**(-1) * e**2
+      y = c(17) * q**(-1) * e**2
     end if
     y = y * h**real(-4, c_double)
   end function kernel_grad_over_r_h
@@ -356,10 +357,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = at_origin(horner(c(18:18), q * q) * q**(-1), ieee_value(1.0_c_double, ieee_positive_inf))
+      y = at_origin(c(18) * q**(-1), ieee_value(1.0_c_double, ieee_positive_inf))
     ! [1/2, 1)
     else
-      y = horner(c(19:19), q * q) * q**(-3) * (e * (b(3) + q))
+      y = c(19) * q**(-3) * (e * (b(3) + q))
     end if
     y = y * h**real(-6, c_double)
   end function kernel_hess_radial_h
@@ -381,22 +382,22 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(32:32), r * r) * log(r)
+      y = c(32) * log(r)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/2), Taylor polynomial about 1/4
     if (q < b(0)) then
-      y = horner(c(20:25), shifted(r, h, b(4), 0.0_c_double))
+      y = horner(c(20:25), 6, shifted(r, h, b(4), 0.0_c_double))
     ! [1/2, 1), Taylor polynomial at the edge
     else
-      y = horner(c(26:26), q * q) * log_q(q, e) &
-        + horner(c(27:27), q) * e &
-        + horner(c(28:28), q) * e**2 &
-        + horner(c(29:29), q) * e**3 &
-        + horner(c(30:30), q) * e**4 &
-        + horner(c(31:31), q) * e**5
+      y = c(26) * log_q(q, e) &
+        + c(27) * e &
+        + c(28) * e**2 &
+        + c(29) * e**3 &
+        + c(30) * e**4 &
+        + c(31) * e**5
     end if
     y = y * h**real(0, c_double)
     y = y + c(32) * log(h)
@@ -419,21 +420,21 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(45:45), r * r) * r**(-1)
+      y = c(45) * r**(-1)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/4)
     if (q < b(4)) then
-      y = horner(c(33:36), q) * q
+      y = horner(c(33:36), 4, q) * q
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(37:41), shifted(r, h, b(5), 0.0_c_double))
+      y = horner(c(37:41), 5, shifted(r, h, b(5), 0.0_c_double))
     ! [1/2, 1)
     else
-      y = horner(c(42:42), q * q) * q**(-1) &
-        + horner(c(43:44), q) * q**(-1) * e**4
+      y = c(42) * q**(-1) &
+        + horner(c(43:44), 2, q) * q**(-1) * e**4
     end if
     y = y * h**real(-1, c_double)
   end function kernel_dpotential_h
@@ -455,21 +456,21 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(57:57), r * r) * r**(-2)
+      y = c(57) * r**(-2)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/4)
     if (q < b(4)) then
-      y = horner(c(46:49), q)
+      y = horner(c(46:49), 4, q)
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(50:53), shifted(r, h, b(5), 0.0_c_double))
+      y = horner(c(50:53), 4, shifted(r, h, b(5), 0.0_c_double))
     ! [1/2, 1)
     else
-      y = horner(c(54:54), q * q) * q**(-2) &
-        + horner(c(55:56), q) * q**(-2) * e**4
+      y = c(54) * q**(-2) &
+        + horner(c(55:56), 2, q) * q**(-2) * e**4
     end if
     y = y * h**real(-2, c_double)
   end function kernel_dpotential_over_r_h
@@ -491,18 +492,18 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(64:64), r * r) * r**(-4)
+      y = c(64) * r**(-4)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/2), Taylor polynomial about 1/4
     if (q < b(0)) then
-      y = horner(c(58:59), shifted(r, h, b(4), 0.0_c_double))
+      y = horner(c(58:59), 2, shifted(r, h, b(4), 0.0_c_double))
     ! [1/2, 1)
     else
-      y = horner(c(60:60), q * q) * q**(-4) &
-        + horner(c(61:63), q) * q**(-4) * e**3
+      y = c(60) * q**(-4) &
+        + horner(c(61:63), 3, q) * q**(-4) * e**3
     end if
     y = y * h**real(-4, c_double)
   end function kernel_potential_hess_radial_h

@@ -106,12 +106,13 @@ contains
   ! The evaluation helpers of mollify's Precision::fast form
   ! (include/mollify/detail/evaluate.hpp).
 
-  pure function horner(a, v) result(y)
-    real(c_double), intent(in) :: a(:), v
+  pure function horner(a, n, v) result(y)
+    integer, intent(in) :: n
+    real(c_double), intent(in) :: a(n), v
     real(c_double) :: y
     integer :: k
-    y = a(size(a))
-    do k = size(a) - 1, 1, -1
+    y = a(n)
+    do k = n - 1, 1, -1
       y = y * v + a(k)
     end do
   end function horner
@@ -175,10 +176,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(0:3), q)
+      y = horner(c(0:3), 4, q)
     ! [1/2, 1)
     else
-      y = horner(c(4:4), q) * e**3
+      y = c(4) * e**3
     end if
     y = y * h**real(-3, c_double)
   end function kernel_value_h
@@ -207,10 +208,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(5:6), q) * q
+      y = horner(c(5:6), 2, q) * q
     ! [1/2, 1)
     else
-      y = horner(c(7:7), q) * e**2
+      y = c(7) * e**2
     end if
     y = y * h**real(-4, c_double)
   end function kernel_dr_h
@@ -239,10 +240,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(8:9), q)
+      y = horner(c(8:9), 2, q)
     ! [1/2, 1)
     else
-      y = horner(c(10:10), q) * e
+      y = c(10) * e
     end if
     y = y * h**real(-5, c_double)
   end function kernel_d2r_h
@@ -271,10 +272,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(11:11), q) * to_edge(r, h, b(0))
+      y = c(11) * to_edge(r, h, b(0))
     ! [1/2, 1)
     else
-      y = horner(c(12:13), q) * q**(-1) * e
+      y = horner(c(12:13), 2, q) * q**(-1) * e
     end if
     y = y * h**real(-5, c_double)
   end function kernel_laplacian_h
@@ -303,10 +304,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = horner(c(14:15), q)
+      y = horner(c(14:15), 2, q)
     ! [1/2, 1)
     else
-      y = horner(c(16:16), q) * q**(-1) * e**2
+      y = c(16) * q**(-1) * e**2
     end if
     y = y * h**real(-5, c_double)
   end function kernel_grad_over_r_h
@@ -340,10 +341,10 @@ contains
     e = (h - r) / h
     ! [0, 1/2)
     if (q < b(0)) then
-      y = at_origin(horner(c(17:17), q * q) * q**(-1), ieee_value(1.0_c_double, ieee_positive_inf))
+      y = at_origin(c(17) * q**(-1), ieee_value(1.0_c_double, ieee_positive_inf))
     ! [1/2, 1)
     else
-      y = horner(c(18:18), q * q) * q**(-3) * (e * (b(3) + q))
+      y = c(18) * q**(-3) * (e * (b(3) + q))
     end if
     y = y * h**real(-7, c_double)
   end function kernel_hess_radial_h
@@ -365,18 +366,18 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(28:28), r * r) * r**(-1)
+      y = c(28) * r**(-1)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/2), Taylor polynomial about 1/4
     if (q < b(0)) then
-      y = horner(c(19:24), shifted(r, h, b(4), 0.0_c_double))
+      y = horner(c(19:24), 6, shifted(r, h, b(4), 0.0_c_double))
     ! [1/2, 1)
     else
-      y = horner(c(25:25), q * q) * q**(-1) &
-        + horner(c(26:27), q) * q**(-1) * e**5
+      y = c(25) * q**(-1) &
+        + horner(c(26:27), 2, q) * q**(-1) * e**5
     end if
     y = y * h**real(-1, c_double)
   end function kernel_potential_h
@@ -398,21 +399,21 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(42:42), r * r) * r**(-2)
+      y = c(42) * r**(-2)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/4)
     if (q < b(4)) then
-      y = horner(c(29:32), q) * q
+      y = horner(c(29:32), 4, q) * q
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(33:37), shifted(r, h, b(5), 0.0_c_double))
+      y = horner(c(33:37), 5, shifted(r, h, b(5), 0.0_c_double))
     ! [1/2, 1)
     else
-      y = horner(c(38:38), q * q) * q**(-2) &
-        + horner(c(39:41), q) * q**(-2) * e**4
+      y = c(38) * q**(-2) &
+        + horner(c(39:41), 3, q) * q**(-2) * e**4
     end if
     y = y * h**real(-2, c_double)
   end function kernel_dpotential_h
@@ -434,18 +435,18 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(51:51), r * r) * r**(-3)
+      y = c(51) * r**(-3)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/2), Taylor polynomial about 1/4
     if (q < b(0)) then
-      y = horner(c(43:46), shifted(r, h, b(4), 0.0_c_double))
+      y = horner(c(43:46), 4, shifted(r, h, b(4), 0.0_c_double))
     ! [1/2, 1)
     else
-      y = horner(c(47:47), q * q) * q**(-3) &
-        + horner(c(48:50), q) * q**(-3) * e**4
+      y = c(47) * q**(-3) &
+        + horner(c(48:50), 3, q) * q**(-3) * e**4
     end if
     y = y * h**real(-3, c_double)
   end function kernel_dpotential_over_r_h
@@ -467,18 +468,18 @@ contains
       return
     end if
     if (r > h) then
-      y = horner(c(59:59), r * r) * r**(-5)
+      y = c(59) * r**(-5)
       return
     end if
     q = r / h
     e = (h - r) / h
     ! [0, 1/2), Taylor polynomial about 1/4
     if (q < b(0)) then
-      y = horner(c(52:53), shifted(r, h, b(4), 0.0_c_double))
+      y = horner(c(52:53), 2, shifted(r, h, b(4), 0.0_c_double))
     ! [1/2, 1)
     else
-      y = horner(c(54:54), q * q) * q**(-5) &
-        + horner(c(55:58), q) * q**(-5) * e**3
+      y = c(54) * q**(-5) &
+        + horner(c(55:58), 4, q) * q**(-5) * e**3
     end if
     y = y * h**real(-5, c_double)
   end function kernel_potential_hess_radial_h
