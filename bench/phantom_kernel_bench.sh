@@ -16,7 +16,6 @@
 # all: a temporary file, then renamed; without it the table goes to standard
 # output.)
 set -euo pipefail
-cd "$(dirname "$0")/.."
 
 if [ $# -lt 2 ]; then
   echo "usage: bench/phantom_kernel_bench.sh PHANTOM_DIR MOLLIFY_GEN [ROUNDS [OUT.md]]" >&2
@@ -25,6 +24,11 @@ fi
 phantom=$1 gen=$2 rounds=${3:-3} out=${4:-}
 [ -f "$phantom/src/main/physcon.f90" ] || { echo "phantom_kernel_bench: no Phantom source tree at $phantom (src/main/physcon.f90)" >&2; exit 2; }
 [ -x "$gen" ] || { echo "phantom_kernel_bench: not an executable: $gen" >&2; exit 2; }
+# paths as the caller named them, then from the repository's root
+absolute() { case $1 in /*) echo "$1" ;; *) echo "$PWD/$1" ;; esac; }
+phantom=$(absolute "$phantom") gen=$(absolute "$gen")
+[ -z "$out" ] || out=$(absolute "$out")
+cd "$(dirname "$0")/.."
 case $rounds in '' | *[!0-9]* | 0) echo "phantom_kernel_bench: ROUNDS must be a positive integer, not '$rounds'" >&2; exit 2 ;; esac
 command -v gfortran > /dev/null || { echo "phantom_kernel_bench: gfortran is needed (apt-get install gfortran)" >&2; exit 2; }
 

@@ -39,9 +39,10 @@ const std::vector<Helper>& fortran_helpers() {
     static const std::vector<Helper> all = {
         // a(n) of explicit shape, n given: gfortran -O3 inlines it and
         // unrolls its loop, where an assumed-shape a(:) (a descriptor) left a
-        // call and a loop (Phantom's get_kernel for the quintic spline, with
-        // Phantom's flags: 4.5-5.4 ns a call against 3.8-4.3, the stock
-        // file's 3.5-3.6: README, "Integration with Phantom").
+        // call and a loop (bench/phantom_kernel_bench.sh, Phantom's flags:
+        // its get_kernel of the quintic spline 1.33 -> 1.19x the stock
+        // file's time, of the quartic 1.71 -> 1.10x; README, "Phantom's
+        // `get_kernel`, stock against mollify's").
         {"horner", {}, R"(
   pure function horner(a, n, v) result(y)
     integer, intent(in) :: n
