@@ -16,21 +16,9 @@
 # all: a temporary file, then renamed; without it the table goes to standard
 # output.)
 set -euo pipefail
-
-if [ $# -lt 2 ]; then
-  echo "usage: bench/phantom_kernel_bench.sh PHANTOM_DIR MOLLIFY_GEN [ROUNDS [OUT.md]]" >&2
-  exit 2
-fi
-phantom=$1 gen=$2 rounds=${3:-3} out=${4:-}
-[ -f "$phantom/src/main/physcon.f90" ] || { echo "phantom_kernel_bench: no Phantom source tree at $phantom (src/main/physcon.f90)" >&2; exit 2; }
-[ -x "$gen" ] || { echo "phantom_kernel_bench: not an executable: $gen" >&2; exit 2; }
-# paths as the caller named them, then from the repository's root
-absolute() { case $1 in /*) echo "$1" ;; *) echo "$PWD/$1" ;; esac; }
-phantom=$(absolute "$phantom") gen=$(absolute "$gen")
-[ -z "$out" ] || out=$(absolute "$out")
-cd "$(dirname "$0")/.."
-case $rounds in '' | *[!0-9]* | 0) echo "phantom_kernel_bench: ROUNDS must be a positive integer, not '$rounds'" >&2; exit 2 ;; esac
-command -v gfortran > /dev/null || { echo "phantom_kernel_bench: gfortran is needed (apt-get install gfortran)" >&2; exit 2; }
+source "$(dirname "$0")/peers/common.sh"
+peer_arguments phantom_kernel_bench PHANTOM_DIR src/main/physcon.f90 gfortran "$@"
+phantom=$tree
 
 # Phantom's stock kernel file and the mollify spec of the same kernel.
 kernels=("quintic quintic-spline" "quartic quartic-spline" "cubic cubic-spline"
@@ -53,9 +41,6 @@ build() {
     gfortran "${fflags[@]}" "$OLDPWD/bench/peers/phantom_get_kernel.f90" kernel.o physcon.o -o drv) > "$1.log" 2>&1 ||
     { echo "phantom_kernel_bench: building against $2 failed:" >&2; cat "$1.log" >&2; exit 1; }
 }
-load() { cut -d' ' -f1-3 /proc/loadavg; }
-median() { sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
-field() { awk -v k="$1" '{for (i = 1; i < NF; ++i) if ($i == k) print $(i + 1)}'; }
 
 rows=$work/rows summary=$work/summary
 : > "$rows"
@@ -80,7 +65,7 @@ for k in "${kernels[@]}"; do
   done
   ms=$(median < "$work/t_s") mm=$(median < "$work/t_m")
   sw=$(grep -F "| $stock | 1 | Phantom" "$rows" | cut -d'|' -f6) mw=$(grep -F "| $stock | 1 | mollify" "$rows" | cut -d'|' -f6)
-  echo "| $stock | $spec | $ms | $mm | $(awk -v a="$mm" -v b="$ms" 'BEGIN {printf "%.2f", a / b}') | $(awk -v a="$sw" -v b="$mw" 'BEGIN {d = (a - b) / b; printf "%.1e", d < 0 ? -d : d}') |" >> "$summary"
+  echo "| $stock | $spec | $ms | $mm | $(ratio "$mm" "$ms") | $(relative_difference "$sw" "$mw") |" >> "$summary"
 done
 
 table() {
@@ -103,10 +88,4 @@ echo "|---|--:|---|--:|--:|---|---|"
 cat "$rows"
 }
 
-if [ -n "$out" ]; then
-  table > "$out.tmp.$$"
-  mv "$out.tmp.$$" "$out"
-  echo "wrote $out"
-else
-  table
-fi
+write_out "$out" table

@@ -1,0 +1,47 @@
+# Shell functions of the peer benchmarks (bench/phantom_kernel_bench.sh,
+# bench/swift_kernel_bench.sh), sourced by them.
+
+# A path as the caller named it, absolute (the scripts then work from the
+# repository's root).
+absolute() { case $1 in /*) echo "$1" ;; *) echo "$PWD/$1" ;; esac; }
+# The machine's load averages over 1, 5 and 15 minutes.
+load() { cut -d' ' -f1-3 /proc/loadavg; }
+# The median of the numbers on standard input, one a line.
+median() { sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
+# The word after KEY in a line "KEY value KEY value ...".
+field() { awk -v k="$1" '{for (i = 1; i < NF; ++i) if ($i == k) print $(i + 1)}'; }
+# |a - b| / |b|, for the two headers' or modules' sums.
+relative_difference() { awk -v a="$1" -v b="$2" 'BEGIN {d = (a - b) / b; printf "%.1e", d < 0 ? -d : d}'; }
+# a / b to two decimals.
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a / b}'; }
+# The table to OUT whole or not at all (a temporary file, then renamed), or
+# to standard output without OUT: write_out OUT FUNCTION.
+write_out() {
+  if [ -n "$1" ]; then
+    "$2" > "$1.tmp.$$"
+    mv "$1.tmp.$$" "$1"
+    echo "wrote $1"
+  else
+    "$2"
+  fi
+}
+# peer_arguments NAME TREE_NAME MARKER COMPILER ARGS...: a peer benchmark's
+# arguments TREE MOLLIFY_GEN [ROUNDS [OUT.md]] checked (a message naming the
+# bad one, exit 2), made absolute, as tree, gen, rounds (3 by default) and
+# out; then into the repository's root, where the benchmark works.
+peer_arguments() {
+  local name=$1 tree_name=$2 marker=$3 compiler=$4
+  shift 4
+  if [ $# -lt 2 ]; then
+    echo "usage: bench/$name.sh $tree_name MOLLIFY_GEN [ROUNDS [OUT.md]]" >&2
+    exit 2
+  fi
+  tree=$1 gen=$2 rounds=${3:-3} out=${4:-}
+  [ -f "$tree/$marker" ] || { echo "$name: no source tree at $tree ($marker)" >&2; exit 2; }
+  [ -x "$gen" ] || { echo "$name: not an executable: $gen" >&2; exit 2; }
+  case $rounds in '' | *[!0-9]* | 0) echo "$name: ROUNDS must be a positive integer, not '$rounds'" >&2; exit 2 ;; esac
+  command -v "$compiler" > /dev/null || { echo "$name: $compiler is needed" >&2; exit 2; }
+  tree=$(absolute "$tree") gen=$(absolute "$gen")
+  [ -z "$out" ] || out=$(absolute "$out")
+  cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+}
