@@ -140,7 +140,22 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     out += "#ifndef COMPUTE_WK\n#define COMPUTE_WK -1\n#define COMPUTE_WK_AND_DWK 0\n#define COMPUTE_DWK 1\n#endif\n";
     out += "static inline void kernel_main(double u, double hinv3, double hinv4, double *wk, double *dwk, int mode)\n{\n"
            "    if (mode <= COMPUTE_WK_AND_DWK) *wk = NORM * hinv3 * " + prefix + "_w(u);\n"
-           "    if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * " + prefix + "_dw(u);\n}\n#endif\n";
+           "    if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * " + prefix + "_dw(u);\n}\n";
+    // GADGET-4's EXPLICIT_VECTORIZATION (Config.sh) calls kernel_main_vector
+    // in its density and hydro loops (src/sph/density.cc, hydra.cc), four
+    // neighbours at once in its vectorclass Vec4d, NORM already in the
+    // hinv3 and hinv4 it passes (its stock form multiplies by them alone);
+    // without it such a build stopped at an undeclared function.
+    out += "#ifdef EXPLICIT_VECTORIZATION\n"
+           "/* GADGET-4's four-lane form (EXPLICIT_VECTORIZATION: density.cc, hydra.cc; Vec4d from its vectorclass),\n"
+           "   NORM in hinv3 and hinv4 as its callers pass them: each lane by the scalar form's functions */\n"
+           "static inline void kernel_main_vector(Vec4d u, Vec4d hinv3, Vec4d hinv4, Vec4d *wk, Vec4d *dwk)\n{\n"
+           "    double x[4], h3[4], h4[4], w[4], dw[4];\n    int i;\n"
+           "    u.store(x);\n    hinv3.store(h3);\n    hinv4.store(h4);\n"
+           "    for (i = 0; i < 4; ++i) {\n"
+           "        w[i] = h3[i] * " + prefix + "_w(x[i]);\n"
+           "        dw[i] = h4[i] * " + prefix + "_dw(x[i]);\n    }\n"
+           "    wk->load(w);\n    dwk->load(dw);\n}\n#endif\n#endif\n";
     return {{"gadget4/" + facts.id + ".h", out}};
 }
 

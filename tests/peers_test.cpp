@@ -424,6 +424,50 @@ TEST(Gadget4, SofteningOfOneKernelBesideTheSphKernelOfAnother) {
     EXPECT_NE(clash.status, 0) << "two whole headers in one unit compiled";
 }
 
+// GADGET-4's EXPLICIT_VECTORIZATION calls kernel_main_vector(u, hinv3, hinv4,
+// &wk, &dwk) on four neighbours at once in its vectorclass Vec4d, NORM
+// already in the hinv3 and hinv4 its loops pass (src/sph/density.cc,
+// hydra.cc). Here a stand-in with the two members the header uses (store,
+// load; GADGET-4's vectorclass is not in CI: checked by hand with it, README
+// "Integration with GADGET-4"), under GADGET-4's -std=c++11 -Wall -Wextra
+// -Werror: each lane must be kernel_main's value bit for bit (NORM * hinv3
+// is the same product in both), in every dimension, at and beyond the
+// support edge; a header without the form fails to compile.
+TEST(Gadget4, FourLaneFormIsTheScalarFormLaneByLane) {
+    const fs::path dir = work_dir().string() + "_gadget4_vector";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target gadget4 --only cubic-spline --only wendland:k=2 --out '" +
+                                   dir.string() + "'",
+                               dir / "capture");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string vec4d =
+        "struct Vec4d {\n  double v[4];\n  explicit Vec4d(double x) { for (int i = 0; i < 4; ++i) v[i] = x; }\n"
+        "  void store(double *p) const { for (int i = 0; i < 4; ++i) p[i] = v[i]; }\n"
+        "  Vec4d &load(const double *p) { for (int i = 0; i < 4; ++i) v[i] = p[i]; return *this; }\n};\n";
+    for (const char* id : {"cubic_spline", "wendland_k_2"})
+        for (int dim = 1; dim <= 3; ++dim) {
+            const std::string unit = std::string(id) + "_D" + std::to_string(dim);
+            SCOPED_TRACE(unit);
+            std::ofstream(dir / (unit + ".cpp"))
+                << "#include <cstdio>\n" << vec4d << "#define EXPLICIT_VECTORIZATION\n#include \"gadget4/" << unit << ".h\"\n"
+                << "int main() {\n  const double u[] = {0.0, 1e-9, 0.1, 0.2, 0.37, 0.5, 0.6, 0.75, 0.9, 0.999, 1.0, 1.5};\n"
+                << "  int lanes = 0, same = 0;\n  for (const double x : u) {\n"
+                << "    const double h3 = 1.7, h4 = 0.3;\n    Vec4d w(-1), dw(-1), ux(0);\n    const double p[4] = {0.25, x, 0.75, x};\n"
+                << "    ux.load(p);\n    kernel_main_vector(ux, Vec4d(NORM * h3), Vec4d(NORM * h4), &w, &dw);\n"
+                << "    for (int i = 0; i < 4; ++i) {\n      double sw = -2, sd = -2;\n"
+                << "      kernel_main(p[i], h3, h4, &sw, &sd, COMPUTE_WK_AND_DWK);\n      ++lanes;\n"
+                << "      same += w.v[i] == sw && dw.v[i] == sd && (w.v[i] != 0 || p[i] >= 1);\n    }\n  }\n"
+                << "  std::printf(\"%d %d\\n\", lanes, same);\n}\n";
+            const std::string flags = dim == 1 ? " -DONEDIMS" : dim == 2 ? " -DTWODIMS" : "";
+            ASSERT_NO_FATAL_FAILURE(
+                run_in(dir, "g++", "g++ -std=c++11 -O2 -Wall -Wextra -Werror" + flags + " " + unit + ".cpp -o " + unit));
+            const auto out = run_command("cd '" + dir.string() + "' && ./" + unit, dir / "capture");
+            ASSERT_EQ(out.status, 0) << out.err;
+            EXPECT_EQ(out.out, "48 48\n") << "lanes compared, lanes equal to kernel_main (and nonzero inside the support)";
+        }
+}
+
 // A higher-order kernel (zero second moment) has no double hump norm nor hfact: a clear error.
 TEST(PhantomErrors, HigherOrderKernelsNameTheirSecondMoment) {
     const fs::path out = work_dir().string() + "_combo";

@@ -124,4 +124,22 @@ static inline void kernel_main(double u, double hinv3, double hinv4, double *wk,
     if (mode <= COMPUTE_WK_AND_DWK) *wk = NORM * hinv3 * mollify_g4_cubic_spline_D1_w(u);
     if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * mollify_g4_cubic_spline_D1_dw(u);
 }
+#ifdef EXPLICIT_VECTORIZATION
+/* GADGET-4's four-lane form (EXPLICIT_VECTORIZATION: density.cc, hydra.cc; Vec4d from its vectorclass),
+   NORM in hinv3 and hinv4 as its callers pass them: each lane by the scalar form's functions */
+static inline void kernel_main_vector(Vec4d u, Vec4d hinv3, Vec4d hinv4, Vec4d *wk, Vec4d *dwk)
+{
+    double x[4], h3[4], h4[4], w[4], dw[4];
+    int i;
+    u.store(x);
+    hinv3.store(h3);
+    hinv4.store(h4);
+    for (i = 0; i < 4; ++i) {
+        w[i] = h3[i] * mollify_g4_cubic_spline_D1_w(x[i]);
+        dw[i] = h4[i] * mollify_g4_cubic_spline_D1_dw(x[i]);
+    }
+    wk->load(w);
+    dwk->load(dw);
+}
+#endif
 #endif
