@@ -53,22 +53,7 @@ for k in "${kernels[@]}"; do
   [ -n "$id" ] || { echo "swift_kernel_bench: mollify-gen wrote no file for $spec" >&2; exit 1; }
   build "$work/s_$name" "$swift/src" "$macro"
   build "$work/m_$name" "$work/emitted/swift/$id" "$macro"
-  : > "$work/i_s"; : > "$work/i_m"; : > "$work/c_s"; : > "$work/c_m"
-  for ((r = 1; r <= rounds; ++r)); do
-    for side in s m; do
-      before=$(load)
-      line=$("$work/${side}_$name")
-      after=$(load)
-      i=$(echo "$line" | field ns_inlined) c=$(echo "$line" | field ns_called)
-      echo "$i" >> "$work/i_$side"
-      echo "$c" >> "$work/c_$side"
-      who=$([ $side = s ] && echo "SWIFT src/kernel_hydro.h" || echo "mollify $spec")
-      echo "| $name | $r | $who | $i | $c | $(echo "$line" | field sum_w) | $before | $after |" >> "$rows"
-    done
-  done
-  is=$(median < "$work/i_s") im=$(median < "$work/i_m") cs=$(median < "$work/c_s") cm=$(median < "$work/c_m")
-  ws=$(grep -F "| $name | 1 | SWIFT" "$rows" | cut -d'|' -f7) wm=$(grep -F "| $name | 1 | mollify" "$rows" | cut -d'|' -f7)
-  echo "| $name | $spec | $is | $im | $(ratio "$im" "$is") | $cs | $cm | $(ratio "$cm" "$cs") | $(relative_difference "$ws" "$wm") |" >> "$summary"
+  alternate_headers "$name" "$spec" "SWIFT src/kernel_hydro.h" "$work/s_$name" "$work/m_$name" "$rows" "$summary"
 done
 
 table() {

@@ -45,3 +45,30 @@ peer_arguments() {
   [ -z "$out" ] || out=$(absolute "$out")
   cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 }
+# alternate_headers NAME SPEC STOCK_LABEL STOCK_BINARY MOLLIFY_BINARY ROWS SUMMARY:
+# the two binaries of one kernel run alternating $rounds times (each prints
+# "ns_inlined T ns_called T sum_w S ..."), a row of ROWS per run with the
+# load before and after it, then a row of SUMMARY: the medians of both
+# timings, mollify over the stock, and the sums' relative difference.
+alternate_headers() {
+  local name=$1 spec=$2 stock_label=$3 scratch r side line before after i c is im cs cm ws wm
+  local -A binary=([s]=$4 [m]=$5)
+  local rows=$6 summary=$7
+  scratch=$(mktemp -d)
+  for ((r = 1; r <= rounds; ++r)); do
+    for side in s m; do
+      before=$(load)
+      line=$("${binary[$side]}")
+      after=$(load)
+      i=$(echo "$line" | field ns_inlined) c=$(echo "$line" | field ns_called)
+      echo "$i" >> "$scratch/i_$side"
+      echo "$c" >> "$scratch/c_$side"
+      echo "| $name | $r | $([ $side = s ] && echo "$stock_label" || echo "mollify $spec") | $i | $c | $(echo "$line" | field sum_w) | $before | $after |" >> "$rows"
+      [ "$r" -gt 1 ] || echo "$line" | field sum_w > "$scratch/w_$side"
+    done
+  done
+  is=$(median < "$scratch/i_s") im=$(median < "$scratch/i_m") cs=$(median < "$scratch/c_s") cm=$(median < "$scratch/c_m")
+  ws=$(cat "$scratch/w_s") wm=$(cat "$scratch/w_m")
+  rm -rf "$scratch"
+  echo "| $name | $spec | $is | $im | $(ratio "$im" "$is") | $cs | $cm | $(ratio "$cm" "$cs") | $(relative_difference "$ws" "$wm") |" >> "$summary"
+}
