@@ -40,16 +40,7 @@ build() {
 }
 
 rows=$work/rows summary=$work/summary
-: > "$rows"
-: > "$summary"
-for k in "${kernels[@]}"; do
-  read -r name macro spec <<< "$k"
-  id=$(ls "$work/emitted/gadget4" | grep -i "^$(echo "$spec" | sed 's/[:=,-]/_/g')_D3.h$" || true)
-  [ -n "$id" ] || { echo "gadget4_kernel_bench: mollify-gen wrote no file for $spec" >&2; exit 1; }
-  build "$work/s_$name" "$gadget4/src/sph/kernel.h" "$macro"
-  build "$work/m_$name" "$work/emitted/gadget4/$id" "$macro"
-  alternate_headers "$name" "$spec" "GADGET-4 src/sph/kernel.h" "$work/s_$name" "$work/m_$name" "$rows" "$summary"
-done
+compare_kernels "GADGET-4 src/sph/kernel.h" "$gadget4/src/sph/kernel.h" "$work/emitted/gadget4" ".h" "$rows" "$summary"
 
 table() {
 echo "GADGET-4's \`kernel_main\`: its stock src/sph/kernel.h against mollify's header, 3D, $(date -u '+%Y-%m-%d %H:%M') UTC."

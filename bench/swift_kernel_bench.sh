@@ -45,16 +45,7 @@ build() {
 }
 
 rows=$work/rows summary=$work/summary
-: > "$rows"
-: > "$summary"
-for k in "${kernels[@]}"; do
-  read -r name macro spec <<< "$k"
-  id=$(ls "$work/emitted/swift" | grep -i "^$(echo "$spec" | sed 's/[:=,-]/_/g')_D3$" || true)
-  [ -n "$id" ] || { echo "swift_kernel_bench: mollify-gen wrote no file for $spec" >&2; exit 1; }
-  build "$work/s_$name" "$swift/src" "$macro"
-  build "$work/m_$name" "$work/emitted/swift/$id" "$macro"
-  alternate_headers "$name" "$spec" "SWIFT src/kernel_hydro.h" "$work/s_$name" "$work/m_$name" "$rows" "$summary"
-done
+compare_kernels "SWIFT src/kernel_hydro.h" "$swift/src" "$work/emitted/swift" "" "$rows" "$summary"
 
 table() {
 echo "SWIFT's \`kernel_deval\`: its stock kernel_hydro.h against mollify's, 3D, $(date -u '+%Y-%m-%d %H:%M') UTC."

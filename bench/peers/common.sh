@@ -72,3 +72,20 @@ alternate_headers() {
   rm -rf "$scratch"
   echo "| $name | $spec | $is | $im | $(ratio "$im" "$is") | $cs | $cm | $(ratio "$cm" "$cs") | $(relative_difference "$ws" "$wm") |" >> "$summary"
 }
+# compare_kernels STOCK_LABEL STOCK_HEADER EMITTED_DIR SUFFIX ROWS SUMMARY: for
+# each "name macro spec" of the caller's $kernels, the stock STOCK_HEADER and
+# mollify's EMITTED_DIR/<spec as an identifier>_D3<SUFFIX>, each built by the
+# caller's `build BINARY HEADER MACRO` into $work, then alternate_headers.
+compare_kernels() {
+  local stock_label=$1 stock=$2 emitted=$3 suffix=$4 rows=$5 summary=$6 k name macro spec id
+  : > "$rows"
+  : > "$summary"
+  for k in "${kernels[@]}"; do
+    read -r name macro spec <<< "$k"
+    id=$(ls "$emitted" | grep -i -F -x "$(echo "$spec" | sed 's/[:=,-]/_/g')_D3$suffix" || true)
+    [ -n "$id" ] || { echo "mollify-gen wrote no file for $spec in $emitted" >&2; exit 1; }
+    build "$work/s_$name" "$stock" "$macro"
+    build "$work/m_$name" "$emitted/$id" "$macro"
+    alternate_headers "$name" "$spec" "$stock_label" "$work/s_$name" "$work/m_$name" "$rows" "$summary"
+  done
+}
