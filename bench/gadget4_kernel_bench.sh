@@ -40,7 +40,8 @@ build() {
 }
 
 rows=$work/rows summary=$work/summary
-compare_kernels "GADGET-4 src/sph/kernel.h" "$gadget4/src/sph/kernel.h" "$work/emitted/gadget4" ".h" "$rows" "$summary"
+timings=(ns_inlined ns_called)
+compare_kernels "GADGET-4 src/sph/kernel.h" "$gadget4/src/sph/kernel.h" "$work/emitted/gadget4" "" ".h" "$rows" "$summary"
 
 table() {
 echo "GADGET-4's \`kernel_main\`: its stock src/sph/kernel.h against mollify's header, 3D, $(date -u '+%Y-%m-%d %H:%M') UTC."

@@ -21,8 +21,9 @@ peer_arguments phantom_kernel_bench PHANTOM_DIR src/main/physcon.f90 gfortran "$
 phantom=$tree
 
 # Phantom's stock kernel file and the mollify spec of the same kernel.
-kernels=("quintic quintic-spline" "quartic quartic-spline" "cubic cubic-spline"
-         "WendlandC2 wendland:k=1" "WendlandC4 wendland:k=2" "WendlandC6 wendland:k=3")
+# (no macro: "-")
+kernels=("quintic - quintic-spline" "quartic - quartic-spline" "cubic - cubic-spline"
+         "WendlandC2 - wendland:k=1" "WendlandC4 - wendland:k=2" "WendlandC6 - wendland:k=3")
 # Phantom's flags (build/Makefile_defaults_gfortran: FFLAGS and DBLFLAG, without -g).
 fflags=(-O3 -Wall -Wno-unused-dummy-argument -frecord-marker=4 -finline-functions-called-once -finline-limit=1500
         -funroll-loops -ftree-vectorize -std=f2008 -fall-intrinsics -fdefault-real-8 -fdefault-double-8)
@@ -30,43 +31,21 @@ fflags=(-O3 -Wall -Wno-unused-dummy-argument -frecord-marker=4 -finline-function
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 only=()
-for k in "${kernels[@]}"; do only+=(--only "${k#* }"); done
+for k in "${kernels[@]}"; do only+=(--only "${k##* }"); done
 "$gen" emit --target phantom "${only[@]}" --out "$work/emitted" > /dev/null
 
-# build DIR KERNEL_FILE: the driver against one kernel module
+# build BINARY KERNEL_FILE -: the driver against one kernel module, in a folder of its own
 build() {
-  mkdir -p "$1"
-  (cd "$1" && gfortran "${fflags[@]}" -c "$phantom/src/main/physcon.f90" &&
+  mkdir -p "$1.d"
+  (cd "$1.d" && gfortran "${fflags[@]}" -c "$phantom/src/main/physcon.f90" &&
     gfortran "${fflags[@]}" -c "$2" -o kernel.o &&
-    gfortran "${fflags[@]}" "$OLDPWD/bench/peers/phantom_get_kernel.f90" kernel.o physcon.o -o drv) > "$1.log" 2>&1 ||
+    gfortran "${fflags[@]}" "$root/bench/peers/phantom_get_kernel.f90" kernel.o physcon.o -o "$1") > "$1.log" 2>&1 ||
     { echo "phantom_kernel_bench: building against $2 failed:" >&2; cat "$1.log" >&2; exit 1; }
 }
 
-rows=$work/rows summary=$work/summary
-: > "$rows"
-: > "$summary"
-for k in "${kernels[@]}"; do
-  stock=${k%% *} spec=${k#* }
-  id=$(ls "$work/emitted/phantom" | grep -i "^kernel_$(echo "$spec" | sed 's/[:=,-]/_/g')_D3.f90$" || true)
-  [ -n "$id" ] || { echo "phantom_kernel_bench: mollify-gen wrote no file for $spec" >&2; exit 1; }
-  build "$work/s_$stock" "$phantom/src/main/kernel_$stock.f90"
-  build "$work/m_$stock" "$work/emitted/phantom/$id"
-  : > "$work/t_s" ; : > "$work/t_m"
-  for ((r = 1; r <= rounds; ++r)); do
-    for side in s m; do
-      before=$(load)
-      line=$("$work/${side}_$stock/drv")
-      after=$(load)
-      t=$(echo "$line" | field ns_per_call)
-      echo "$t" >> "$work/t_$side"
-      name=$([ $side = s ] && echo "Phantom kernel_$stock.f90" || echo "mollify $spec")
-      echo "| $stock | $r | $name | $t | $(echo "$line" | field cnormk_sum_w) | $before | $after |" >> "$rows"
-    done
-  done
-  ms=$(median < "$work/t_s") mm=$(median < "$work/t_m")
-  sw=$(grep -F "| $stock | 1 | Phantom" "$rows" | cut -d'|' -f6) mw=$(grep -F "| $stock | 1 | mollify" "$rows" | cut -d'|' -f6)
-  echo "| $stock | $spec | $ms | $mm | $(ratio "$mm" "$ms") | $(relative_difference "$sw" "$mw") |" >> "$summary"
-done
+root=$PWD rows=$work/rows summary=$work/summary
+timings=(ns_called)
+compare_kernels "Phantom kernel_{name}.f90" "$phantom/src/main/kernel_{name}.f90" "$work/emitted/phantom" kernel_ .f90 "$rows" "$summary"
 
 table() {
 echo "Phantom's \`get_kernel\`: its stock kernel modules against mollify's, $(date -u '+%Y-%m-%d %H:%M') UTC."

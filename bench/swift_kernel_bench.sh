@@ -45,7 +45,8 @@ build() {
 }
 
 rows=$work/rows summary=$work/summary
-compare_kernels "SWIFT src/kernel_hydro.h" "$swift/src" "$work/emitted/swift" "" "$rows" "$summary"
+timings=(ns_inlined ns_called)
+compare_kernels "SWIFT src/kernel_hydro.h" "$swift/src" "$work/emitted/swift" "" "" "$rows" "$summary"
 
 table() {
 echo "SWIFT's \`kernel_deval\`: its stock kernel_hydro.h against mollify's, 3D, $(date -u '+%Y-%m-%d %H:%M') UTC."

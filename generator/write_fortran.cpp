@@ -40,8 +40,8 @@ const std::vector<Helper>& fortran_helpers() {
         // a(n) of explicit shape, n given: gfortran -O3 inlines it and
         // unrolls its loop, where an assumed-shape a(:) (a descriptor) left a
         // call and a loop (bench/phantom_kernel_bench.sh, Phantom's flags:
-        // its get_kernel of the quintic spline 1.33 -> 1.19x the stock
-        // file's time, of the quartic 1.71 -> 1.10x; README, "Phantom's
+        // its get_kernel of the quintic spline 1.34 -> 1.06x the stock
+        // file's time, of the quartic 1.30 -> 1.04x; README, "Phantom's
         // `get_kernel`, stock against mollify's").
         {"horner", {}, R"(
   pure function horner(a, n, v) result(y)

@@ -46,46 +46,53 @@ peer_arguments() {
   cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 }
 # alternate_headers NAME SPEC STOCK_LABEL STOCK_BINARY MOLLIFY_BINARY ROWS SUMMARY:
-# the two binaries of one kernel run alternating $rounds times (each prints
-# "ns_inlined T ns_called T sum_w S ..."), a row of ROWS per run with the
-# load before and after it, then a row of SUMMARY: the medians of both
-# timings, mollify over the stock, and the sums' relative difference.
+# the two binaries of one kernel run alternating $rounds times, each printing
+# "KEY value ..." with the caller's $timings keys (ns a point) and sum_w; a
+# row of ROWS per run with the load before and after it, then a row of
+# SUMMARY: for each timing the two medians and mollify over the stock, and
+# the first round's sums' relative difference.
 alternate_headers() {
-  local name=$1 spec=$2 stock_label=$3 scratch r side line before after i c is im cs cm ws wm
+  local name=$1 spec=$2 stock_label=$3 rows=$6 summary=$7 scratch r side line before after key row
   local -A binary=([s]=$4 [m]=$5)
-  local rows=$6 summary=$7
   scratch=$(mktemp -d)
   for ((r = 1; r <= rounds; ++r)); do
     for side in s m; do
       before=$(load)
       line=$("${binary[$side]}")
       after=$(load)
-      i=$(echo "$line" | field ns_inlined) c=$(echo "$line" | field ns_called)
-      echo "$i" >> "$scratch/i_$side"
-      echo "$c" >> "$scratch/c_$side"
-      echo "| $name | $r | $([ $side = s ] && echo "$stock_label" || echo "mollify $spec") | $i | $c | $(echo "$line" | field sum_w) | $before | $after |" >> "$rows"
+      row="| $name | $r | $([ $side = s ] && echo "$stock_label" || echo "mollify $spec") |"
+      for key in "${timings[@]}"; do
+        echo "$line" | field "$key" >> "$scratch/${key}_$side"
+        row+=" $(echo "$line" | field "$key") |"
+      done
+      echo "$row $(echo "$line" | field sum_w) | $before | $after |" >> "$rows"
       [ "$r" -gt 1 ] || echo "$line" | field sum_w > "$scratch/w_$side"
     done
   done
-  is=$(median < "$scratch/i_s") im=$(median < "$scratch/i_m") cs=$(median < "$scratch/c_s") cm=$(median < "$scratch/c_m")
-  ws=$(cat "$scratch/w_s") wm=$(cat "$scratch/w_m")
+  row="| $name | $spec |"
+  for key in "${timings[@]}"; do
+    local ms mm
+    ms=$(median < "$scratch/${key}_s") mm=$(median < "$scratch/${key}_m")
+    row+=" $ms | $mm | $(ratio "$mm" "$ms") |"
+  done
+  echo "$row $(relative_difference "$(cat "$scratch/w_s")" "$(cat "$scratch/w_m")") |" >> "$summary"
   rm -rf "$scratch"
-  echo "| $name | $spec | $is | $im | $(ratio "$im" "$is") | $cs | $cm | $(ratio "$cm" "$cs") | $(relative_difference "$ws" "$wm") |" >> "$summary"
 }
-# compare_kernels STOCK_LABEL STOCK_HEADER EMITTED_DIR SUFFIX ROWS SUMMARY: for
-# each "name macro spec" of the caller's $kernels, the stock STOCK_HEADER and
-# mollify's EMITTED_DIR/<spec as an identifier>_D3<SUFFIX>, each built by the
-# caller's `build BINARY HEADER MACRO` into $work, then alternate_headers.
+# compare_kernels STOCK_LABEL STOCK_FILE EMITTED_DIR PREFIX SUFFIX ROWS SUMMARY:
+# for each "name macro spec" of the caller's $kernels, the stock STOCK_FILE
+# ({name} replaced by the kernel's name) and mollify's
+# EMITTED_DIR/<PREFIX><spec as an identifier>_D3<SUFFIX>, each built by the
+# caller's `build BINARY FILE MACRO` into $work, then alternate_headers.
 compare_kernels() {
-  local stock_label=$1 stock=$2 emitted=$3 suffix=$4 rows=$5 summary=$6 k name macro spec id
+  local stock_label=$1 stock=$2 emitted=$3 prefix=$4 suffix=$5 rows=$6 summary=$7 k name macro spec id
   : > "$rows"
   : > "$summary"
   for k in "${kernels[@]}"; do
     read -r name macro spec <<< "$k"
-    id=$(ls "$emitted" | grep -i -F -x "$(echo "$spec" | sed 's/[:=,-]/_/g')_D3$suffix" || true)
+    id=$(ls "$emitted" | grep -i -F -x "$prefix$(echo "$spec" | sed 's/[:=,-]/_/g')_D3$suffix" || true)
     [ -n "$id" ] || { echo "mollify-gen wrote no file for $spec in $emitted" >&2; exit 1; }
-    build "$work/s_$name" "$stock" "$macro"
+    build "$work/s_$name" "${stock//\{name\}/$name}" "$macro"
     build "$work/m_$name" "$emitted/$id" "$macro"
-    alternate_headers "$name" "$spec" "$stock_label" "$work/s_$name" "$work/m_$name" "$rows" "$summary"
+    alternate_headers "$name" "$spec" "${stock_label//\{name\}/$name}" "$work/s_$name" "$work/m_$name" "$rows" "$summary"
   done
 }

@@ -5,7 +5,8 @@
 ! mollify's (`mollify-gen emit --target phantom`), with Phantom's flags
 ! (bench/phantom_kernel_bench.sh). Prints the least ns a call of RUNS runs
 ! of SWEEPS sweeps over N points, and cnormk times the sums of wkern and
-! grkern over one sweep, so that the two modules' values can be compared
+! grkern over one sweep (ns_called, sum_w, sum_dw: bench/peers/common.sh's
+! keys), so that the two modules' values can be compared
 ! (Phantom's w and mollify's differ by their split into cnormk w, and
 ! Phantom's physcon pi is 3.1415926536, 3.2e-12 above pi).
 program phantom_get_kernel
@@ -55,6 +56,6 @@ program phantom_get_kernel
   best = min(best, elapsed / (real(sweeps) * real(n)) * 1.e9)
  end do
  if (.not. (abs(sw + sg) >= 0.)) stop 1  ! the timed sums are used (a NaN stops it)
- print '(a,f8.3,a,es24.16,a,es24.16)', 'ns_per_call ', best, ' cnormk_sum_w ', cnormk * sw1, &
-  ' cnormk_sum_grad ', cnormk * sg1
+ print '(a,f8.3,a,es24.16,a,es24.16)', 'ns_called ', best, ' sum_w ', cnormk * sw1, &
+  ' sum_dw ', cnormk * sg1
 end program phantom_get_kernel
