@@ -32,6 +32,73 @@ std::vector<RoundedPiece> round_or_fail(const Radial& f, bool potential_like, co
     return std::move(*r);
 }
 
+// GADGET-4's EXPLICIT_VECTORIZATION form (Vec4d of its vectorclass): the
+// helpers of the four-lane functions below, the scalar helpers' operations
+// in the same order on four lanes.
+const char* const vector_helpers = R"(#ifndef MOLLIFY_G4_VECTOR_HELPERS_1
+#define MOLLIFY_G4_VECTOR_HELPERS_1
+/* mollify_c_horner and mollify_c_ipow on the four lanes of a Vec4d: the same operations in the same order */
+static inline Vec4d mollify_g4_v4_horner(const double *c, int n, Vec4d v) {
+    Vec4d y(c[n - 1]);
+    int k;
+    for (k = n - 2; k >= 0; --k) y = y * v + Vec4d(c[k]);
+    return y;
+}
+static inline Vec4d mollify_g4_v4_ipow(Vec4d x, int n) {
+    Vec4d y(1.0), b = x;
+    int m = n < 0 ? -n : n;
+    while (m > 0) {
+        if (m & 1) y = y * b;
+        b = b * b;
+        m >>= 1;
+    }
+    return n < 0 ? Vec4d(1.0) / y : y;
+}
+#endif
+)";
+
+// Every lane evaluates every piece (then a select per boundary): beyond a
+// few pieces four scalar evaluations, each one piece, cost less.
+constexpr std::size_t max_vector_pieces = 4;
+
+// Whether q's four-lane form is the scalar one's arithmetic on Vec4d:
+// polynomial pieces only (no sqrt, logarithm or arcsin, which Vec4d has
+// only through vectorclass's own approximations), zero outside, none
+// singular at 0, and few pieces.
+bool vectorisable(const CodeQuantity& q) {
+    if (q.inside.empty() || q.inside.size() > max_vector_pieces || !q.exterior.terms.empty() || q.at_origin) return false;
+    for (const CodePiece& p : q.inside)
+        for (const CodeTerm& t : p.terms)
+            if (t.term->basis != table::Basis::one) return false;
+    return true;
+}
+
+// q's pieces on four lanes, `static inline Vec4d name(Vec4d q)`: each piece
+// the scalar function's expression (the same terms in the same order), the
+// pieces chosen by select from the last down, as the scalar chain from the
+// first up, and 0 beyond the support.
+std::string vector_function(const std::string& prefix, const std::string& name, const std::string& meaning, const CodeQuantity& q,
+                            const Syntax& scalar) {
+    Syntax s = scalar;
+    s.unit_h = true;
+    s.horner = [prefix](std::size_t first, std::size_t n, const std::string& v) {
+        return "mollify_g4_v4_horner(" + prefix + "_c + " + std::to_string(first) + ", " + std::to_string(n) + ", " + v + ")";
+    };
+    s.power = [](const std::string& x, int n) { return n == 1 ? x : "mollify_g4_v4_ipow(" + x + ", " + std::to_string(n) + ")"; };
+    std::string body;
+    for (std::size_t p = q.inside.size(); p-- > 0;) {
+        const std::string piece = inside_piece(s, q, p);
+        body += "    /* " + comment_text(q.inside[p].note) + " */\n";
+        body += p + 1 == q.inside.size() ? "    Vec4d y = " + piece + ";\n"
+                                         : "    y = select(q < " + s.literal(q.inside[p + 1].lo) + ", " + piece + ", y);\n";
+    }
+    const std::string code = without_comments(body, "/*", "*/");
+    if (uses(code, "r") || uses(code, "h")) fail("internal: --target gadget4: a four-lane piece of " + name + " reads r or h");
+    std::string out = "\n/* " + meaning + ": on four lanes, every piece, then select */\nstatic inline Vec4d " + name + "(Vec4d q) {\n";
+    if (uses(code, "e")) out += "    const Vec4d e = 1.0 - q;\n";
+    return out + body + "    return select(q > 1.0, Vec4d(0.0), y);\n}\n";
+}
+
 }  // namespace
 
 TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
@@ -83,9 +150,12 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
         }
     }
     std::vector<CodeConstant> constants;
+    std::vector<CodeQuantity> quantities;
     std::string functions;
-    for (std::size_t i = 0; i < rounded.size(); ++i)
-        functions += c_unit_function(names[i].first, names[i].second, code_quantity(names[i].first, rounded[i], constants), s);
+    for (std::size_t i = 0; i < rounded.size(); ++i) {
+        quantities.push_back(code_quantity(names[i].first, rounded[i], constants));
+        functions += c_unit_function(names[i].first, names[i].second, quantities.back(), s);
+    }
 
     const std::string dim_macro = k.dim == 1 ? "defined(ONEDIMS)" : k.dim == 2 ? "defined(TWODIMS)" : "!defined(ONEDIMS) && !defined(TWODIMS)";
     const std::string guard = "MOLLIFY_G4_" + facts.id + "_H";
@@ -146,16 +216,30 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     // neighbours at once in its vectorclass Vec4d, NORM already in the
     // hinv3 and hinv4 it passes (its stock form multiplies by them alone);
     // without it such a build stopped at an undeclared function.
-    out += "#ifdef EXPLICIT_VECTORIZATION\n"
-           "/* GADGET-4's four-lane form (EXPLICIT_VECTORIZATION: density.cc, hydra.cc; Vec4d from its vectorclass),\n"
-           "   NORM in hinv3 and hinv4 as its callers pass them: each lane by the scalar form's functions */\n"
-           "static inline void kernel_main_vector(Vec4d u, Vec4d hinv3, Vec4d hinv4, Vec4d *wk, Vec4d *dwk)\n{\n"
-           "    double x[4], h3[4], h4[4], w[4], dw[4];\n    int i;\n"
-           "    u.store(x);\n    hinv3.store(h3);\n    hinv4.store(h4);\n"
-           "    for (i = 0; i < 4; ++i) {\n"
-           "        w[i] = h3[i] * " + prefix + "_w(x[i]);\n"
-           "        dw[i] = h4[i] * " + prefix + "_dw(x[i]);\n    }\n"
-           "    wk->load(w);\n    dwk->load(dw);\n}\n#endif\n#endif\n";
+    out += "#ifdef EXPLICIT_VECTORIZATION\n";
+    if (vectorisable(quantities[0]) && vectorisable(quantities[1])) {
+        // w and w' on four lanes: the scalar pieces' operations (bit for bit
+        // kernel_main's values where the compiler fuses neither or both)
+        out += vector_helpers;
+        out += vector_function(prefix, prefix + "_w_v4", names[0].second, quantities[0], s);
+        out += vector_function(prefix, prefix + "_dw_v4", names[1].second, quantities[1], s);
+        out += "\n/* GADGET-4's four-lane form (EXPLICIT_VECTORIZATION: density.cc, hydra.cc; Vec4d from its vectorclass),\n"
+               "   NORM in hinv3 and hinv4 as its callers pass them */\n"
+               "static inline void kernel_main_vector(Vec4d u, Vec4d hinv3, Vec4d hinv4, Vec4d *wk, Vec4d *dwk)\n{\n"
+               "    *wk = hinv3 * " + prefix + "_w_v4(u);\n    *dwk = hinv4 * " + prefix + "_dw_v4(u);\n}\n";
+    } else {
+        out += "/* GADGET-4's four-lane form (EXPLICIT_VECTORIZATION: density.cc, hydra.cc; Vec4d from its vectorclass),\n"
+               "   NORM in hinv3 and hinv4 as its callers pass them: each lane by the scalar form's functions\n"
+               "   (" + facts.spec + "'s pieces are not few polynomials, which four lanes could share) */\n"
+               "static inline void kernel_main_vector(Vec4d u, Vec4d hinv3, Vec4d hinv4, Vec4d *wk, Vec4d *dwk)\n{\n"
+               "    double x[4], h3[4], h4[4], w[4], dw[4];\n    int i;\n"
+               "    u.store(x);\n    hinv3.store(h3);\n    hinv4.store(h4);\n"
+               "    for (i = 0; i < 4; ++i) {\n"
+               "        w[i] = h3[i] * " + prefix + "_w(x[i]);\n"
+               "        dw[i] = h4[i] * " + prefix + "_dw(x[i]);\n    }\n"
+               "    wk->load(w);\n    dwk->load(dw);\n}\n";
+    }
+    out += "#endif\n#endif\n";
     return {{"gadget4/" + facts.id + ".h", out}};
 }
 

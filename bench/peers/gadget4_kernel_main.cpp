@@ -5,6 +5,9 @@
 // way), with GADGET-4's flags (bench/gadget4_kernel_bench.sh): 4096 u
 // spread over [0, 1) by the golden ratio, the function inlined into a loop
 // and called once a point through a function the compiler may not inline.
+// Built with EXPLICIT_VECTORIZATION (GADGET-4's Config.sh option; Vec4d
+// from its vectorclass), also kernel_main_vector on four u at once, as its
+// density and hydro loops call it (src/sph/density.cc, hydra.cc).
 // Prints the least ns a point of 7 timings of SWEEPS sweeps for each, and
 // the sums of wk and dwk over one sweep (h = 1) to compare the two headers.
 #include <math.h>
@@ -12,6 +15,9 @@
 #include <stdlib.h>
 #include <time.h>
 
+#ifdef EXPLICIT_VECTORIZATION
+#include "vectorclass/vectorclass.h"
+#endif
 #ifndef NUMDIMS
 #define NUMDIMS 3  // GADGET-4's src/data/constants.h without ONEDIMS or TWODIMS
 #endif
@@ -48,6 +54,22 @@ double sweeps_of(int sweeps) {
     }
   return sw + sg;
 }
+
+#ifdef EXPLICIT_VECTORIZATION
+// kernel_main_vector over the u four at a time (NORM in the hinv3 and hinv4
+// it is passed, as GADGET-4's loops pass them: h = 1).
+double vector_sweeps(int sweeps) {
+  Vec4d sum(0.0);
+  for (int s = 0; s < sweeps; ++s)
+    for (int i = 0; i < n; i += 4) {
+      Vec4d x, wk, dwk;
+      x.load(u + i);
+      kernel_main_vector(x, Vec4d(NORM), Vec4d(NORM), &wk, &dwk);
+      sum += wk + dwk;
+    }
+  return horizontal_add(sum);
+}
+#endif
 
 double best_ns(double (*sweep)(int), int sweeps, double &keep) {
   double best = 1e300;
@@ -86,7 +108,12 @@ int main(int argc, char **argv) {
   }
   const double inlined = best_ns(sweeps_of<main_inlined>, sweeps, keep);
   const double called = best_ns(sweeps_of<main_call>, sweeps, keep);
+#ifdef EXPLICIT_VECTORIZATION
+  const double vector = best_ns(vector_sweeps, sweeps, keep);
+#else
+  const double vector = 0;
+#endif
   if (keep != keep) return 1;  // the timed sums are used (a NaN fails)
-  printf("ns_inlined %.3f ns_called %.3f sum_w %.17e sum_dw %.17e\n", inlined, called, sum_w, sum_dw);
+  printf("ns_inlined %.3f ns_called %.3f ns_vector %.3f sum_w %.17e sum_dw %.17e\n", inlined, called, vector, sum_w, sum_dw);
   return 0;
 }

@@ -125,21 +125,53 @@ static inline void kernel_main(double u, double hinv3, double hinv4, double *wk,
     if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * mollify_g4_cubic_spline_D1_dw(u);
 }
 #ifdef EXPLICIT_VECTORIZATION
+#ifndef MOLLIFY_G4_VECTOR_HELPERS_1
+#define MOLLIFY_G4_VECTOR_HELPERS_1
+/* mollify_c_horner and mollify_c_ipow on the four lanes of a Vec4d: the same operations in the same order */
+static inline Vec4d mollify_g4_v4_horner(const double *c, int n, Vec4d v) {
+    Vec4d y(c[n - 1]);
+    int k;
+    for (k = n - 2; k >= 0; --k) y = y * v + Vec4d(c[k]);
+    return y;
+}
+static inline Vec4d mollify_g4_v4_ipow(Vec4d x, int n) {
+    Vec4d y(1.0), b = x;
+    int m = n < 0 ? -n : n;
+    while (m > 0) {
+        if (m & 1) y = y * b;
+        b = b * b;
+        m >>= 1;
+    }
+    return n < 0 ? Vec4d(1.0) / y : y;
+}
+#endif
+
+/* w(u), W = NORM w(u) H^-D: on four lanes, every piece, then select */
+static inline Vec4d mollify_g4_cubic_spline_D1_w_v4(Vec4d q) {
+    const Vec4d e = 1.0 - q;
+    /* [1/2, 1) */
+    Vec4d y = mollify_g4_v4_horner(mollify_g4_cubic_spline_D1_c + 4, 1, q) * mollify_g4_v4_ipow(e, 3);
+    /* [0, 1/2) */
+    y = select(q < 5.0e-01, mollify_g4_v4_horner(mollify_g4_cubic_spline_D1_c + 0, 4, q), y);
+    return select(q > 1.0, Vec4d(0.0), y);
+}
+
+/* w'(u) = dw/du: on four lanes, every piece, then select */
+static inline Vec4d mollify_g4_cubic_spline_D1_dw_v4(Vec4d q) {
+    const Vec4d e = 1.0 - q;
+    /* [1/2, 1) */
+    Vec4d y = mollify_g4_v4_horner(mollify_g4_cubic_spline_D1_c + 7, 1, q) * mollify_g4_v4_ipow(e, 2);
+    /* [0, 1/2) */
+    y = select(q < 5.0e-01, mollify_g4_v4_horner(mollify_g4_cubic_spline_D1_c + 5, 2, q) * q, y);
+    return select(q > 1.0, Vec4d(0.0), y);
+}
+
 /* GADGET-4's four-lane form (EXPLICIT_VECTORIZATION: density.cc, hydra.cc; Vec4d from its vectorclass),
-   NORM in hinv3 and hinv4 as its callers pass them: each lane by the scalar form's functions */
+   NORM in hinv3 and hinv4 as its callers pass them */
 static inline void kernel_main_vector(Vec4d u, Vec4d hinv3, Vec4d hinv4, Vec4d *wk, Vec4d *dwk)
 {
-    double x[4], h3[4], h4[4], w[4], dw[4];
-    int i;
-    u.store(x);
-    hinv3.store(h3);
-    hinv4.store(h4);
-    for (i = 0; i < 4; ++i) {
-        w[i] = h3[i] * mollify_g4_cubic_spline_D1_w(x[i]);
-        dw[i] = h4[i] * mollify_g4_cubic_spline_D1_dw(x[i]);
-    }
-    wk->load(w);
-    dwk->load(dw);
+    *wk = hinv3 * mollify_g4_cubic_spline_D1_w_v4(u);
+    *dwk = hinv4 * mollify_g4_cubic_spline_D1_dw_v4(u);
 }
 #endif
 #endif
