@@ -11,6 +11,8 @@
 namespace mollify::gen {
 
 extern const char* const c_helpers;
+// mollify_c_ipow's (and its four-lane twin's) exponents: |n| < 256, else Error.
+void check_c_power(int n);
 Syntax c_syntax(const std::string& prefix);
 
 // Exact values in C comments ("*/" never ends one early).

@@ -8,6 +8,7 @@
 #include "target.hpp"
 #include "target_code.hpp"
 
+#include "error.hpp"
 #include "rounding.hpp"
 
 #include <cctype>
@@ -25,11 +26,12 @@ static inline double mollify_c_horner(const double *c, int n, double v) {
     for (k = n - 2; k >= 0; --k) y = y * v + c[k];
     return y;
 }
-/* x^n by binary powering */
+/* x^n by binary powering, |n| < 256 (the writers emit no larger power): eight steps whatever n,
+   so that a compiler unrolls them for a constant n and can vectorise a loop around the call */
 static inline double mollify_c_ipow(double x, int n) {
     double y = 1.0, b = x;
-    int m = n < 0 ? -n : n;
-    while (m > 0) {
+    int m = n < 0 ? -n : n, k;
+    for (k = 0; k < 8; ++k) {
         if (m & 1) y *= b;
         b *= b;
         m >>= 1;
@@ -99,6 +101,10 @@ std::string c_near_origin_helper_text() {
 
 }  // namespace
 
+void check_c_power(int n) {
+    if (n <= -256 || n >= 256) fail("internal: a power " + std::to_string(n) + " beyond mollify_c_ipow's eight steps");
+}
+
 Syntax c_syntax(const std::string& prefix) {
     Syntax s;
     s.constant = [prefix](std::size_t i) { return prefix + "_c[" + std::to_string(i) + "]"; };
@@ -106,6 +112,7 @@ Syntax c_syntax(const std::string& prefix) {
         return "mollify_c_horner(" + prefix + "_c + " + std::to_string(first) + ", " + std::to_string(n) + ", " + v + ")";
     };
     s.power = [](const std::string& x, int n) {
+        check_c_power(n);
         return n == 1 ? x : "mollify_c_ipow(" + x + ", " + std::to_string(n) + ")";
     };
     s.literal = [](double x) { return hex_literal(x); };
@@ -171,6 +178,8 @@ std::string c_function(const CodeKernel& k, const CodeQuantity& q, const Syntax&
     out += "    if (!(r >= 0) || !(h > 0) || isinf(h)) return (double)NAN; /* r >= 0 and a finite h > 0 */\n";
     if (q.near_origin) {
         const CodeQuantity::NearOrigin& o = *q.near_origin;
+        check_c_power(q.scale_power);
+        check_c_power(o.low);
         out += "    if (r > 0 && r < " + hex_literal(detail::near_origin_bound) + " * h) /* below r/h = 2^-150: h^p q^" +
                std::to_string(o.low) + " (a + b log q) */\n";
         out += "        return mollify_c_near_origin(r, h, " + std::to_string(q.scale_power) + ", " + std::to_string(o.low) +

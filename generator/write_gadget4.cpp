@@ -46,8 +46,8 @@ static inline Vec4d mollify_g4_v4_horner(const double *c, int n, Vec4d v) {
 }
 static inline Vec4d mollify_g4_v4_ipow(Vec4d x, int n) {
     Vec4d y(1.0), b = x;
-    int m = n < 0 ? -n : n;
-    while (m > 0) {
+    int m = n < 0 ? -n : n, k;
+    for (k = 0; k < 8; ++k) {
         if (m & 1) y = y * b;
         b = b * b;
         m >>= 1;
@@ -84,7 +84,10 @@ std::string vector_function(const std::string& prefix, const std::string& name, 
     s.horner = [prefix](std::size_t first, std::size_t n, const std::string& v) {
         return "mollify_g4_v4_horner(" + prefix + "_c + " + std::to_string(first) + ", " + std::to_string(n) + ", " + v + ")";
     };
-    s.power = [](const std::string& x, int n) { return n == 1 ? x : "mollify_g4_v4_ipow(" + x + ", " + std::to_string(n) + ")"; };
+    s.power = [](const std::string& x, int n) {
+        check_c_power(n);
+        return n == 1 ? x : "mollify_g4_v4_ipow(" + x + ", " + std::to_string(n) + ")";
+    };
     std::string body;
     for (std::size_t p = q.inside.size(); p-- > 0;) {
         const std::string piece = inside_piece(s, q, p);

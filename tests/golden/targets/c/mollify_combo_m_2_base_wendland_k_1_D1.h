@@ -24,11 +24,12 @@ static inline double mollify_c_horner(const double *c, int n, double v) {
     for (k = n - 2; k >= 0; --k) y = y * v + c[k];
     return y;
 }
-/* x^n by binary powering */
+/* x^n by binary powering, |n| < 256 (the writers emit no larger power): eight steps whatever n,
+   so that a compiler unrolls them for a constant n and can vectorise a loop around the call */
 static inline double mollify_c_ipow(double x, int n) {
     double y = 1.0, b = x;
-    int m = n < 0 ? -n : n;
-    while (m > 0) {
+    int m = n < 0 ? -n : n, k;
+    for (k = 0; k < 8; ++k) {
         if (m & 1) y *= b;
         b *= b;
         m >>= 1;
