@@ -436,9 +436,10 @@ TEST(Gadget4, SofteningOfOneKernelBesideTheSphKernelOfAnother) {
 //   lane by the scalar functions for the others (the missing Wendland
 //   function's sqrt and arcsech);
 // - with x86-64's baseline flags (no FMA, so nothing fused), each lane is
-//   kernel_main's value bit for bit: the same arithmetic, the pieces chosen
-//   as the scalar chain chooses them (a piece selected on the wrong side of
-//   a breakpoint, or NORM applied twice, differs);
+//   kernel_main's value bit for bit (hinv3 = 2, hinv4 = 4): the same
+//   arithmetic, the pieces chosen as the scalar chain chooses them (a piece
+//   selected on the wrong side of a breakpoint, NORM applied twice, or hinv3
+//   and hinv4 swapped, differs);
 // - each lane within 32 ulp of the exact W and W' (as kernel_main above),
 //   also built with FMA where this machine has it (the compiler may then fuse
 //   a combination's sum of terms differently on four lanes than on one).
@@ -481,8 +482,8 @@ TEST(Gadget4, FourLaneFormIsTheScalarFormLaneByLane) {
               << "int main() {\n  const double u[] = {";
             for (double x : u) d << gen::exact_decimal_literal(x) << ", ";
             d << "};\n  for (unsigned b = 0; b < sizeof u / sizeof *u; b += 4) {\n    Vec4d x, w(-1), dw(-1);\n    x.load(u + b);\n"
-              << "    kernel_main_vector(x, Vec4d(NORM), Vec4d(NORM), &w, &dw);\n    for (int i = 0; i < 4; ++i) {\n"
-              << "      double sw = -2, sd = -2;\n      kernel_main(u[b + i], 1.0, 1.0, &sw, &sd, COMPUTE_WK_AND_DWK);\n"
+              << "    kernel_main_vector(x, Vec4d(NORM * 2.0), Vec4d(NORM * 4.0), &w, &dw);\n    for (int i = 0; i < 4; ++i) {\n"
+              << "      double sw = -2, sd = -2;\n      kernel_main(u[b + i], 2.0, 4.0, &sw, &sd, COMPUTE_WK_AND_DWK);\n"
               << "      const double out[4] = {w.v[i], dw.v[i], sw, sd};\n      std::fwrite(out, 8, 4, stdout);\n    }\n  }\n}\n";
             std::ofstream(dir / (unit + ".cpp")) << d.str();
             const gen::Exact one(gen::Q(1));
@@ -506,9 +507,10 @@ TEST(Gadget4, FourLaneFormIsTheScalarFormLaneByLane) {
                     }
                     double w = exact_at(W, x, one), dw = exact_at(dW, x, one);
                     if (x == 0 && std::fabs(dw) < 1e-150) dw = 0;  // the limit from 2^-600 (exact_at), as above
-                    EXPECT_LE(ulps_off(v[0], w, std::fabs(x * dw)), bound_ulps) << "wk at u = " << x << ": " << v[0] << " vs " << w;
-                    EXPECT_LE(ulps_off(v[1], dw, std::fabs(x * exact_at(d2W, x, one))), bound_ulps)
-                        << "dwk at u = " << x << ": " << v[1] << " vs " << dw;
+                    // hinv3 = 2, hinv4 = 4: exact scalings, and a form that swaps them differs
+                    EXPECT_LE(ulps_off(v[0] / 2, w, std::fabs(x * dw)), bound_ulps) << "wk at u = " << x << ": " << v[0] << " vs 2 x " << w;
+                    EXPECT_LE(ulps_off(v[1] / 4, dw, std::fabs(x * exact_at(d2W, x, one))), bound_ulps)
+                        << "dwk at u = " << x << ": " << v[1] << " vs 4 x " << dw;
                 }
             }
         }
