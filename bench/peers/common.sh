@@ -1,5 +1,5 @@
 # Shell functions of the peer benchmarks (bench/phantom_kernel_bench.sh,
-# bench/swift_kernel_bench.sh), sourced by them.
+# bench/swift_kernel_bench.sh, bench/gadget4_kernel_bench.sh), sourced by them.
 
 # A path as the caller named it, absolute (the scripts then work from the
 # repository's root).
@@ -8,6 +8,10 @@ absolute() { case $1 in /*) echo "$1" ;; *) echo "$PWD/$1" ;; esac; }
 load() { cut -d' ' -f1-3 /proc/loadavg; }
 # The median of the numbers on standard input, one a line.
 median() { sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
+# The host and the compiler that builds the drivers, for a table's head: host_line COMPILER.
+host_line() { echo "Host: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores; $("$1" --version | head -1)."; }
+# A peer tree's commit, or that it has none (a snapshot without .git): tree_revision DIR.
+tree_revision() { git -C "$1" rev-parse --short HEAD 2>/dev/null || echo "an unversioned tree"; }
 # The word after KEY in a line "KEY value KEY value ...".
 field() { awk -v k="$1" '{for (i = 1; i < NF; ++i) if ($i == k) print $(i + 1)}'; }
 # |a - b| / |b|, for the two headers' or modules' sums.
