@@ -208,6 +208,64 @@ DerivedConstant gamma_of(const ExactKernel& k) {
     return g;
 }
 
+// SWIFT's SIMD kernel functions (src/kernel_hydro.h under WITH_VECTORIZATION;
+// hydro/Gadget2/hydro_iact.h's vectorised interactions call deval_1, deval_2
+// and dWdx_force): on SWIFT's `vector` (vector.h: a union of VEC_SIZE floats
+// f[]), every lane through the scalar function, so each lane is that value
+// bit for bit and 0 for u >= gamma where the scalar is. The inputs and
+// outputs are copied to locals, so GCC assumes no aliasing and vectorises the
+// lane loop under SWIFT's flags (-O3 -ffast-math; not at -O2 or without fast
+// math, where the loop stays scalar: checked by hand, stop 89). One text for
+// every kernel: the scalar functions carry the kernel.
+constexpr const char* simd_functions = R"(
+#if defined(WITH_VECTORIZATION) || defined(WITH_OLD_VECTORIZATION)
+/* SWIFT's SIMD kernel functions on its vector (VEC_SIZE floats, vector.h): every lane the scalar function's
+ * value bit for bit (the GADGET-2 SPH scheme's hand-vectorised loops call them). */
+__attribute__((always_inline)) static inline void kernel_deval_1_vec(vector *u, vector *w, vector *dw_dx) {
+    vector x = *u, a, b;
+    int k;
+    for (k = 0; k < VEC_SIZE; k++) kernel_deval(x.f[k], &a.f[k], &b.f[k]);
+    *w = a;
+    *dw_dx = b;
+}
+
+__attribute__((always_inline)) static inline void kernel_deval_vec(vector *u, vector *w, vector *dw_dx) {
+    kernel_deval_1_vec(u, w, dw_dx);
+}
+
+__attribute__((always_inline)) static inline void kernel_deval_2_vec(vector *u, vector *w, vector *dw_dx, vector *u2,
+                                                                     vector *w2, vector *dw_dx2) {
+    kernel_deval_1_vec(u, w, dw_dx);
+    kernel_deval_1_vec(u2, w2, dw_dx2);
+}
+
+__attribute__((always_inline)) static inline void kernel_eval_W_vec(vector *u, vector *w) {
+    vector x = *u, a;
+    int k;
+    for (k = 0; k < VEC_SIZE; k++) kernel_eval(x.f[k], &a.f[k]);
+    *w = a;
+}
+
+__attribute__((always_inline)) static inline void kernel_eval_dWdx_vec(vector *u, vector *dw_dx) {
+    vector x = *u, b;
+    int k;
+    for (k = 0; k < VEC_SIZE; k++) kernel_eval_dWdx(x.f[k], &b.f[k]);
+    *dw_dx = b;
+}
+
+/* 0 for u >= gamma, as SWIFT's (the scalar function's value) */
+__attribute__((always_inline)) static inline void kernel_eval_dWdx_force_vec(vector *u, vector *dw_dx) {
+    kernel_eval_dWdx_vec(u, dw_dx);
+}
+
+__attribute__((always_inline)) static inline void kernel_eval_dWdx_force_2_vec(vector *u, vector *dw_dx, vector *u_2,
+                                                                               vector *dw_dx_2) {
+    kernel_eval_dWdx_vec(u, dw_dx);
+    kernel_eval_dWdx_vec(u_2, dw_dx_2);
+}
+#endif
+)";
+
 std::string hydro_file(const TargetKernel& tk, const std::string& command) {
     const KernelFacts& facts = tk.facts;
     const ExactKernel& k = facts.kernel;
@@ -247,10 +305,11 @@ std::string hydro_file(const TargetKernel& tk, const std::string& command) {
            expanded_layout_loss(k) + ".\n"
            " * Signs: " + comment_text(signs.note) + "\n"
            " * Not given: kernel_degree, kernel_ivals, kernel_coeffs (SWIFT's table layout, read only inside its stock\n"
-           " * kernel_hydro.h), the SIMD functions kernel_*_vec (called only by SWIFT's hand-vectorised GADGET-2 SPH\n"
-           " * loops, runner_doiact_hydro_vec.c: with GADGET2_SPH and WITH_VECTORIZATION an #error; configure SWIFT\n"
-           " * with --disable-hand-vec there, as its stock file demands for kernels other than C2 and the cubic;\n"
-           " * every other scheme builds with SWIFT's default vectorisation), potential_dh (stock: Wendland C2 only).\n"
+           " * kernel_hydro.h), potential_dh (stock: Wendland C2 only).\n"
+           " * The SIMD functions kernel_*_vec (WITH_VECTORIZATION: SWIFT's GADGET-2 SPH scheme's hand-vectorised\n"
+           " * loops call them) take every lane through the scalar function, so each lane is its value bit for bit;\n"
+           " * GCC vectorises that loop under SWIFT's flags (-O3 -ffast-math). SWIFT's stock file has them for\n"
+           " * Wendland C2 and the cubic spline only (--disable-hand-vec for the others).\n"
            " * Each constant is correctly rounded (float where SWIFT uses float), its exact value beside it.\n"
            " * Outside SWIFT define MOLLIFY_SWIFT_STANDALONE (and " + dim_macro + "): no SWIFT headers are included.\n */\n";
     out += "#ifndef SWIFT_KERNEL_HYDRO_H\n#define SWIFT_KERNEL_HYDRO_H\n\n";
@@ -258,9 +317,7 @@ std::string hydro_file(const TargetKernel& tk, const std::string& command) {
            "#include <config.h>\n#endif\n#include <math.h>\n#ifndef MOLLIFY_SWIFT_STANDALONE\n#include \"dimension.h\"\n"
            "#include \"error.h\"\n#include \"inline.h\"\n#include \"minmax.h\"\n#include \"vector.h\"\n#endif\n\n";
     out += "#if !defined(" + dim_macro + ")\n#error \"" + facts.spec + " was generated for " + dim_macro + "\"\n#endif\n";
-    out += "#if defined(WITH_OLD_VECTORIZATION) || (defined(WITH_VECTORIZATION) && defined(GADGET2_SPH))\n#error \"mollify's "
-           "kernel_hydro.h has no SIMD kernel functions, which the GADGET-2 SPH scheme's hand-vectorised loops call: "
-           "configure SWIFT with --disable-hand-vec\"\n#endif\n\n";
+    out += "\n";
     out += "#define kernel_name \"mollify " + facts.spec + "\"\n";
     out += float_define("kernel_gamma", gamma_power(g2, 1));
     out += float_define("kernel_gamma_inv", gamma_power(g2, -1));
@@ -301,6 +358,7 @@ std::string hydro_file(const TargetKernel& tk, const std::string& command) {
            "static inline void kernel_eval_double(double u, double *restrict W) {\n"
            "    const double w = " + prefix + "_gamma_inv_dim * " + prefix + "_W1(u * " + prefix + "_gamma_inv);\n"
            "    *W = " + clamp_wd + ";\n}\n";
+    out += simd_functions;
     out += "\nvoid hydro_kernel_dump(int N);\n\n#endif /* SWIFT_KERNEL_HYDRO_H */\n";
     return out;
 }

@@ -16,6 +16,11 @@
 // = kernel_eval), the stock values where SWIFT has the kernel (Wendland C2:
 // W_pot(0) = -3, W_f(0) = 14, H = 3 eps; kernel_gamma's printed decimals),
 // the error without the flag, and the files against tests/golden/peers/swift.
+// The drivers are built with WITH_VECTORIZATION and GADGET2_SPH (SWIFT's
+// default configure with its GADGET-2 scheme) and a stand-in vector of 8
+// floats: every SIMD function kernel_*_vec at every hydro point, each lane
+// within the scalar functions' bound of the exact value, and (without fast
+// math) the scalar function's value bit for bit.
 // Each driver is built twice, with -O2 and with SWIFT's own optimisation
 // flags (-O3 -ffast-math ...: reassociation, FMA contraction, flush-to-zero),
 // and both builds' values meet the same bounds (below the smallest normal
@@ -206,10 +211,51 @@ int d_soft_orders(const std::string& header) {
     return n;
 }
 
+// The SIMD functions (kernel_*_vec) at every hydro point, in simd.bin: per
+// point simd_values floats, each of its lane in a call on a register of
+// points (the uf in order, wrapping round), the second operand of the two-
+// register functions holding the same points in reverse lane order:
+// deval_1's W and dW, deval_2's first W, dW and second W, dW, eval_W,
+// eval_dWdx, dWdx_force, dWdx_force_2's first and second.
+constexpr int simd_lanes = 8;
+constexpr std::size_t simd_values = 11;
+constexpr const char* simd_driver = R"(#if defined(WITH_VECTORIZATION)
+  o = fopen("simd.bin", "wb");
+  if (!o) return 2;
+  {
+    const unsigned n = sizeof uf / sizeof uf[0];
+    for (i = 0; i < n; i += VEC_SIZE) {
+      vector a, b, w1, d1, w2, d2, w3, d3, w4, d4, f1, f2, f3;
+      unsigned k;
+      for (k = 0; k < VEC_SIZE; ++k) {
+        a.f[k] = uf[(i + k) % n];
+        b.f[VEC_SIZE - 1 - k] = a.f[k];
+      }
+      kernel_deval_1_vec(&a, &w1, &d1);
+      kernel_deval_2_vec(&a, &w2, &d2, &b, &w3, &d3);
+      kernel_eval_W_vec(&a, &w4);
+      kernel_eval_dWdx_vec(&a, &d4);
+      kernel_eval_dWdx_force_vec(&a, &f1);
+      kernel_eval_dWdx_force_2_vec(&a, &f2, &b, &f3);
+      for (k = 0; k < VEC_SIZE && i + k < n; ++k) {
+        const unsigned r = VEC_SIZE - 1 - k;
+        const float v[11] = {w1.f[k], d1.f[k], w2.f[k], d2.f[k], w3.f[r], d3.f[r], w4.f[k], d4.f[k], f1.f[k], f2.f[k], f3.f[r]};
+        fwrite(v, sizeof(float), 11, o);
+      }
+    }
+  }
+  fclose(o);
+#endif
+)";
+
 std::string driver(const std::vector<float>& uf, const std::vector<double>& ud, const std::vector<float>& gf,
                    const std::vector<double>& gd, int orders) {
     std::ostringstream s;
-    s << "#include <stdio.h>\n#include \"kernel_hydro.h\"\n" << (orders ? "#include \"kernel_gravity.h\"\n" : "")
+    // SWIFT's vector (vector.h) where the driver is built WITH_VECTORIZATION: a
+    // union of VEC_SIZE floats, as SWIFT's (whose v is an intrinsic type)
+    s << "#include <stdio.h>\n#if defined(WITH_VECTORIZATION)\n#define VEC_SIZE " << simd_lanes << "\n"
+      << "typedef union {\n  float v __attribute__((vector_size(VEC_SIZE * sizeof(float))));\n  float f[VEC_SIZE];\n} vector;\n"
+      << "#endif\n#include \"kernel_hydro.h\"\n" << (orders ? "#include \"kernel_gravity.h\"\n" : "")
       << c_array("float", "uf", uf) << c_array("double", "ud", ud);
     if (orders) s << c_array("float", "gf", gf) << c_array("double", "gd", gd);
     s << "int main(void) {\n  unsigned i;\n  FILE *o = fopen(\"hydro.bin\", \"wb\");\n"
@@ -220,7 +266,8 @@ std::string driver(const std::vector<float>& uf, const std::vector<double>& ud, 
       << "    kernel_deval(uf[i], &v[0], &v[1]);\n    kernel_eval(uf[i], &v[2]);\n    kernel_eval_dWdx(uf[i], &v[3]);\n"
       << "    fwrite(v, sizeof(float), 4, o);\n  }\n"
       << "  for (i = 0; i < sizeof ud / sizeof ud[0]; ++i) {\n    double w;\n    kernel_eval_double(ud[i], &w);\n"
-      << "    fwrite(&w, sizeof(double), 1, o);\n  }\n  fclose(o);\n  printf(\"%s\\n\", kernel_name);\n";
+      << "    fwrite(&w, sizeof(double), 1, o);\n  }\n  fclose(o);\n  printf(\"%s\\n\", kernel_name);\n"
+      << simd_driver;
     if (orders) {
         s << "  o = fopen(\"gravity.bin\", \"wb\");\n  if (!o) return 2;\n  {\n"
           << "    const double c[2] = {kernel_gravity_softening_plummer_equivalent, kernel_gravity_softening_plummer_equivalent_inv};\n"
@@ -287,7 +334,9 @@ void check_kernel(const fs::path& root, const std::string& spec, int dim, bool c
     std::ofstream(dir / "driver.c") << driver(uf, ud, gf, gd, orders);
     // SWIFT's M2P needs D_soft_(order+2): the largest multipole order the file allows, and one more is an #error
     const std::string order = gravity ? " -DSELF_GRAVITY_MULTIPOLE_ORDER=" + std::to_string(std::min(orders - 2, 5)) : "";
-    const std::string defines = " -DHYDRO_DIMENSION_" + std::to_string(dim) + "D" + order;
+    // SWIFT's default configure (WITH_VECTORIZATION) with its GADGET-2 SPH scheme, whose
+    // hand-vectorised loops take the SIMD functions
+    const std::string defines = " -DHYDRO_DIMENSION_" + std::to_string(dim) + "D" + order + " -DWITH_VECTORIZATION -DGADGET2_SPH";
     ASSERT_NO_FATAL_FAILURE(run_in(dir, "gcc", cc + defines + " driver.c -o driver -lm"));
     if (gravity && orders < 6) {
         const auto r = run_command("cd '" + dir.string() + "' && " + cc + " -DHYDRO_DIMENSION_3D -DSELF_GRAVITY_MULTIPOLE_ORDER=" +
@@ -349,6 +398,14 @@ void check_values(const fs::path& run, bool flushes, const std::string& spec, co
         EXPECT_NEAR(h[0], dim == 2 ? 2.415230 : 2.449490, 1e-6);
     }
 
+    const std::vector<float> simd = read_binary<float>(run / "simd.bin");
+    ASSERT_EQ(simd.size(), simd_values * uf.size());
+    const char* const simd_names[simd_values] = {"kernel_deval_1_vec's W", "kernel_deval_1_vec's dW", "kernel_deval_2_vec's first W",
+                                                 "kernel_deval_2_vec's first dW", "kernel_deval_2_vec's second W",
+                                                 "kernel_deval_2_vec's second dW", "kernel_eval_W_vec", "kernel_eval_dWdx_vec",
+                                                 "kernel_eval_dWdx_force_vec", "kernel_eval_dWdx_force_2_vec's first",
+                                                 "kernel_eval_dWdx_force_2_vec's second"};
+
     const gen::Radial& W1 = facts.quantities.value;
     const gen::Radial dW1 = W1.derivative(), d2W1 = dW1.derivative();
     double worst = 0, worst_double = 0;
@@ -364,6 +421,18 @@ void check_values(const fs::path& run, bool flushes, const std::string& spec, co
         worst = std::max({worst, ew, edw});
         EXPECT_LE(ew, 1) << "W at u = " << hex(uf[i]) << ": " << v[0] << " vs " << w;
         EXPECT_LE(edw, 1) << "dW at u = " << hex(uf[i]) << ": " << v[1] << " vs " << dw;
+        // The SIMD functions: each lane within the same bound; built without fast math, the
+        // scalar function's value bit for bit (with it GCC may contract the lane loop otherwise)
+        for (std::size_t j = 0; j < simd_values; ++j) {
+            const float lane = simd[simd_values * i + j];
+            const bool is_w = j == 0 || j == 2 || j == 4 || j == 6;
+            EXPECT_LE(is_w ? float_error(lane, w, sw, flushes) : float_error(lane, dw, sdw, flushes), 1)
+                << simd_names[j] << " at u = " << hex(uf[i]) << ": " << lane << " vs " << (is_w ? w : dw);
+            if (!flushes) {
+                EXPECT_EQ(std::memcmp(&lane, is_w ? &v[0] : &v[1], sizeof(float)), 0)
+                    << simd_names[j] << " at u = " << hex(uf[i]) << ": " << lane << ", the scalar function " << (is_w ? v[0] : v[1]);
+            }
+        }
         // SWIFT's rules
         EXPECT_EQ(std::memcmp(&v[0], &v[2], sizeof(float)), 0) << "kernel_eval != kernel_deval's W at u = " << hex(uf[i]);
         EXPECT_EQ(std::memcmp(&v[1], &v[3], sizeof(float)), 0) << "kernel_eval_dWdx != kernel_deval's dW at u = " << hex(uf[i]);
@@ -588,24 +657,25 @@ TEST(SwiftErrors, KernelsSwiftCannotTakeAreNamedWithTheReason) {
     EXPECT_NE(m.find("second moment 0"), std::string::npos) << m;
 }
 
-// SWIFT's default configure defines WITH_VECTORIZATION; only the GADGET-2 SPH
-// scheme's hand-vectorised loops (runner_doiact_hydro_vec.c) call SIMD kernel
-// functions, which the files do not give: a file compiles beside every other
-// scheme, and with GADGET2_SPH it is an #error naming SWIFT's --disable-hand-vec
-// (one writer line for every file: the golden cubic spline's checked).
-TEST(Swift, SimdFunctionsAreAnErrorOnlyWhereGadget2SphNeedsThem) {
+// SWIFT's default configure defines WITH_VECTORIZATION, where the files give
+// SWIFT's SIMD kernel functions on its vector type (check_kernel's drivers
+// build them so, with GADGET2_SPH, and check every lane); without it they are
+// not compiled, so a file needs no vector type there (the golden cubic
+// spline's: one writer text for every file).
+TEST(Swift, SimdFunctionsOnlyWithSwiftsVectorisation) {
     const fs::path dir = work_dir() / "vectorisation";
     fs::remove_all(dir);
     fs::create_directories(dir);
     const fs::path header = fs::path(MOLLIFY_PEERS_GOLDEN_DIR) / "swift" / "cubic_spline_D3" / "kernel_hydro.h";
     std::ofstream(dir / "driver.c") << "#include \"" << header.string()
                                     << "\"\nint main(void) {\n  float w, dw;\n  kernel_deval(0.5f, &w, &dw);\n  return !(w > 0);\n}\n";
-    const std::string build = cc + " -DHYDRO_DIMENSION_3D -DWITH_VECTORIZATION";
-    ASSERT_NO_FATAL_FAILURE(run_in(dir, "gcc with WITH_VECTORIZATION", build + " driver.c -o vectorised -lm"));
-    ASSERT_NO_FATAL_FAILURE(run_in(dir, "the driver", "./vectorised"));
-    const auto gadget2 = run_command("cd '" + dir.string() + "' && " + build + " -DGADGET2_SPH -c driver.c -o gadget2.o", dir / "capture");
-    EXPECT_NE(gadget2.status, 0) << "WITH_VECTORIZATION with GADGET2_SPH compiled";
-    EXPECT_NE(gadget2.err.find("configure SWIFT with --disable-hand-vec"), std::string::npos) << gadget2.err;
+    const std::string build = cc + " -DHYDRO_DIMENSION_3D";
+    ASSERT_NO_FATAL_FAILURE(run_in(dir, "gcc without WITH_VECTORIZATION", build + " driver.c -o scalar -lm"));
+    ASSERT_NO_FATAL_FAILURE(run_in(dir, "the driver", "./scalar"));
+    // WITH_VECTORIZATION without a vector type: the SIMD functions are compiled, and fail
+    const auto vectorised = run_command("cd '" + dir.string() + "' && " + build + " -DWITH_VECTORIZATION -c driver.c -o v.o", dir / "capture");
+    EXPECT_NE(vectorised.status, 0) << "the SIMD functions were not compiled with WITH_VECTORIZATION";
+    EXPECT_NE(vectorised.err.find("kernel_deval_1_vec"), std::string::npos) << vectorised.err;
 }
 
 // tests/golden/peers/swift regenerated: any change of the writer's output

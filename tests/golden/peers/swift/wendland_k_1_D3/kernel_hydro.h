@@ -24,10 +24,11 @@
  *   hence the factored form here.
  * Signs: W >= 0 and dW/du <= 0 on the whole support (proved exactly: Bernstein coefficients of every piece), so SWIFT's clamps max(W, 0), min(dW, 0) are kept and change nothing.
  * Not given: kernel_degree, kernel_ivals, kernel_coeffs (SWIFT's table layout, read only inside its stock
- * kernel_hydro.h), the SIMD functions kernel_*_vec (called only by SWIFT's hand-vectorised GADGET-2 SPH
- * loops, runner_doiact_hydro_vec.c: with GADGET2_SPH and WITH_VECTORIZATION an #error; configure SWIFT
- * with --disable-hand-vec there, as its stock file demands for kernels other than C2 and the cubic;
- * every other scheme builds with SWIFT's default vectorisation), potential_dh (stock: Wendland C2 only).
+ * kernel_hydro.h), potential_dh (stock: Wendland C2 only).
+ * The SIMD functions kernel_*_vec (WITH_VECTORIZATION: SWIFT's GADGET-2 SPH scheme's hand-vectorised
+ * loops call them) take every lane through the scalar function, so each lane is its value bit for bit;
+ * GCC vectorises that loop under SWIFT's flags (-O3 -ffast-math). SWIFT's stock file has them for
+ * Wendland C2 and the cubic spline only (--disable-hand-vec for the others).
  * Each constant is correctly rounded (float where SWIFT uses float), its exact value beside it.
  * Outside SWIFT define MOLLIFY_SWIFT_STANDALONE (and HYDRO_DIMENSION_3D): no SWIFT headers are included.
  */
@@ -49,9 +50,6 @@
 
 #if !defined(HYDRO_DIMENSION_3D)
 #error "wendland:k=1 was generated for HYDRO_DIMENSION_3D"
-#endif
-#if defined(WITH_OLD_VECTORIZATION) || (defined(WITH_VECTORIZATION) && defined(GADGET2_SPH))
-#error "mollify's kernel_hydro.h has no SIMD kernel functions, which the GADGET-2 SPH scheme's hand-vectorised loops call: configure SWIFT with --disable-hand-vec"
 #endif
 
 #define kernel_name "mollify wendland:k=1"
@@ -174,6 +172,53 @@ static inline void kernel_eval_double(double u, double *restrict W) {
     const double w = mollify_swift_wendland_k_1_D3_gamma_inv_dim * mollify_swift_wendland_k_1_D3_W1(u * mollify_swift_wendland_k_1_D3_gamma_inv);
     *W = fmax(w, 0.);
 }
+
+#if defined(WITH_VECTORIZATION) || defined(WITH_OLD_VECTORIZATION)
+/* SWIFT's SIMD kernel functions on its vector (VEC_SIZE floats, vector.h): every lane the scalar function's
+ * value bit for bit (the GADGET-2 SPH scheme's hand-vectorised loops call them). */
+__attribute__((always_inline)) static inline void kernel_deval_1_vec(vector *u, vector *w, vector *dw_dx) {
+    vector x = *u, a, b;
+    int k;
+    for (k = 0; k < VEC_SIZE; k++) kernel_deval(x.f[k], &a.f[k], &b.f[k]);
+    *w = a;
+    *dw_dx = b;
+}
+
+__attribute__((always_inline)) static inline void kernel_deval_vec(vector *u, vector *w, vector *dw_dx) {
+    kernel_deval_1_vec(u, w, dw_dx);
+}
+
+__attribute__((always_inline)) static inline void kernel_deval_2_vec(vector *u, vector *w, vector *dw_dx, vector *u2,
+                                                                     vector *w2, vector *dw_dx2) {
+    kernel_deval_1_vec(u, w, dw_dx);
+    kernel_deval_1_vec(u2, w2, dw_dx2);
+}
+
+__attribute__((always_inline)) static inline void kernel_eval_W_vec(vector *u, vector *w) {
+    vector x = *u, a;
+    int k;
+    for (k = 0; k < VEC_SIZE; k++) kernel_eval(x.f[k], &a.f[k]);
+    *w = a;
+}
+
+__attribute__((always_inline)) static inline void kernel_eval_dWdx_vec(vector *u, vector *dw_dx) {
+    vector x = *u, b;
+    int k;
+    for (k = 0; k < VEC_SIZE; k++) kernel_eval_dWdx(x.f[k], &b.f[k]);
+    *dw_dx = b;
+}
+
+/* 0 for u >= gamma, as SWIFT's (the scalar function's value) */
+__attribute__((always_inline)) static inline void kernel_eval_dWdx_force_vec(vector *u, vector *dw_dx) {
+    kernel_eval_dWdx_vec(u, dw_dx);
+}
+
+__attribute__((always_inline)) static inline void kernel_eval_dWdx_force_2_vec(vector *u, vector *dw_dx, vector *u_2,
+                                                                               vector *dw_dx_2) {
+    kernel_eval_dWdx_vec(u, dw_dx);
+    kernel_eval_dWdx_vec(u_2, dw_dx_2);
+}
+#endif
 
 void hydro_kernel_dump(int N);
 
