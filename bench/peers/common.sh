@@ -6,8 +6,12 @@
 absolute() { case $1 in /*) echo "$1" ;; *) echo "$PWD/$1" ;; esac; }
 # The machine's load averages over 1, 5 and 15 minutes.
 load() { cut -d' ' -f1-3 /proc/loadavg; }
-# The median of the numbers on standard input, one a line.
-median() { sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
+# The median of the numbers on standard input, one a line; nan if any is nan
+# (a timing the stock file cannot give).
+median() {
+  sort -g | awk '{a[NR] = $1; if ($1 ~ /nan/) nan = 1}
+                 END {if (nan) print "nan"; else print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'
+}
 # The host and the compiler that builds the drivers, for a table's head: host_line COMPILER.
 host_line() { echo "Host: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores; $("$1" --version | head -1)."; }
 # A peer tree's commit, or that it has none (a snapshot without .git): tree_revision DIR.
@@ -16,8 +20,8 @@ tree_revision() { git -C "$1" rev-parse --short HEAD 2>/dev/null || echo "an unv
 field() { awk -v k="$1" '{for (i = 1; i < NF; ++i) if ($i == k) print $(i + 1)}'; }
 # |a - b| / |b|, for the two headers' or modules' sums.
 relative_difference() { awk -v a="$1" -v b="$2" 'BEGIN {d = (a - b) / b; printf "%.1e", d < 0 ? -d : d}'; }
-# a / b to two decimals.
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a / b}'; }
+# a / b to two decimals; "—" where either is nan.
+ratio() { case "$1$2" in *nan*) echo "—" ;; *) awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a / b}' ;; esac; }
 # The table to OUT whole or not at all (a temporary file, then renamed), or
 # to standard output without OUT: write_out OUT FUNCTION.
 write_out() {
