@@ -214,7 +214,8 @@ DerivedConstant gamma_of(const ExactKernel& k) {
 // f[]), every lane through the scalar function, so each lane is that value
 // bit for bit and 0 for u >= gamma where the scalar is. The inputs and
 // outputs are copied to locals, so GCC assumes no aliasing and vectorises the
-// lane loop under SWIFT's flags (-O3 -ffast-math; not at -O2 or without fast
+// lane loop (the outputs start as copies of the input: clang's -Weverything
+// cannot see that the loop writes every lane) under SWIFT's flags (-O3 -ffast-math; not at -O2 or without fast
 // math, where the loop stays scalar: checked by hand, stop 89). One text for
 // every kernel: the scalar functions carry the kernel.
 constexpr const char* simd_functions = R"(
@@ -222,7 +223,7 @@ constexpr const char* simd_functions = R"(
 /* SWIFT's SIMD kernel functions on its vector (VEC_SIZE floats, vector.h): every lane the scalar function's
  * value bit for bit (the GADGET-2 SPH scheme's hand-vectorised loops call them). */
 __attribute__((always_inline)) static inline void kernel_deval_1_vec(vector *u, vector *w, vector *dw_dx) {
-    vector x = *u, a, b;
+    vector x = *u, a = x, b = x;
     int k;
     for (k = 0; k < VEC_SIZE; k++) kernel_deval(x.f[k], &a.f[k], &b.f[k]);
     *w = a;
@@ -240,14 +241,14 @@ __attribute__((always_inline)) static inline void kernel_deval_2_vec(vector *u, 
 }
 
 __attribute__((always_inline)) static inline void kernel_eval_W_vec(vector *u, vector *w) {
-    vector x = *u, a;
+    vector x = *u, a = x;
     int k;
     for (k = 0; k < VEC_SIZE; k++) kernel_eval(x.f[k], &a.f[k]);
     *w = a;
 }
 
 __attribute__((always_inline)) static inline void kernel_eval_dWdx_vec(vector *u, vector *dw_dx) {
-    vector x = *u, b;
+    vector x = *u, b = x;
     int k;
     for (k = 0; k < VEC_SIZE; k++) kernel_eval_dWdx(x.f[k], &b.f[k]);
     *dw_dx = b;

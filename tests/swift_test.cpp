@@ -661,7 +661,8 @@ TEST(SwiftErrors, KernelsSwiftCannotTakeAreNamedWithTheReason) {
 // SWIFT's SIMD kernel functions on its vector type (check_kernel's drivers
 // build them so, with GADGET2_SPH, and check every lane); without it they are
 // not compiled, so a file needs no vector type there (the golden cubic
-// spline's: one writer text for every file).
+// spline's: one writer text for every file); with it, clean under clang's
+// -Weverything.
 TEST(Swift, SimdFunctionsOnlyWithSwiftsVectorisation) {
     const fs::path dir = work_dir() / "vectorisation";
     fs::remove_all(dir);
@@ -676,6 +677,15 @@ TEST(Swift, SimdFunctionsOnlyWithSwiftsVectorisation) {
     const auto vectorised = run_command("cd '" + dir.string() + "' && " + build + " -DWITH_VECTORIZATION -c driver.c -o v.o", dir / "capture");
     EXPECT_NE(vectorised.status, 0) << "the SIMD functions were not compiled with WITH_VECTORIZATION";
     EXPECT_NE(vectorised.err.find("kernel_deval_1_vec"), std::string::npos) << vectorised.err;
+    // With a vector type, both files clean under clang's every warning (a user's strictest
+    // flags: -Wconditional-uninitialized had flagged the SIMD functions' outputs)
+    const fs::path gravity = header.parent_path() / "kernel_gravity.h";
+    std::ofstream(dir / "strict.c") << "#define VEC_SIZE 8\ntypedef union {\n  float v __attribute__((vector_size(VEC_SIZE * "
+                                       "sizeof(float))));\n  float f[VEC_SIZE];\n} vector;\n#include \""
+                                    << header.string() << "\"\n#include \"" << gravity.string() << "\"\n";
+    ASSERT_NO_FATAL_FAILURE(run_in(dir, "clang -Weverything",
+                                   "clang -std=gnu99 -O2 -Weverything -Werror -DMOLLIFY_SWIFT_STANDALONE -DHYDRO_DIMENSION_3D "
+                                   "-DWITH_VECTORIZATION -DGADGET2_SPH -DSELF_GRAVITY_MULTIPOLE_ORDER=3 -c strict.c -o strict.o"));
 }
 
 // tests/golden/peers/swift regenerated: any change of the writer's output

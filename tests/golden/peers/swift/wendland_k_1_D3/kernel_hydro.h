@@ -177,7 +177,7 @@ static inline void kernel_eval_double(double u, double *restrict W) {
 /* SWIFT's SIMD kernel functions on its vector (VEC_SIZE floats, vector.h): every lane the scalar function's
  * value bit for bit (the GADGET-2 SPH scheme's hand-vectorised loops call them). */
 __attribute__((always_inline)) static inline void kernel_deval_1_vec(vector *u, vector *w, vector *dw_dx) {
-    vector x = *u, a, b;
+    vector x = *u, a = x, b = x;
     int k;
     for (k = 0; k < VEC_SIZE; k++) kernel_deval(x.f[k], &a.f[k], &b.f[k]);
     *w = a;
@@ -195,14 +195,14 @@ __attribute__((always_inline)) static inline void kernel_deval_2_vec(vector *u, 
 }
 
 __attribute__((always_inline)) static inline void kernel_eval_W_vec(vector *u, vector *w) {
-    vector x = *u, a;
+    vector x = *u, a = x;
     int k;
     for (k = 0; k < VEC_SIZE; k++) kernel_eval(x.f[k], &a.f[k]);
     *w = a;
 }
 
 __attribute__((always_inline)) static inline void kernel_eval_dWdx_vec(vector *u, vector *dw_dx) {
-    vector x = *u, b;
+    vector x = *u, b = x;
     int k;
     for (k = 0; k < VEC_SIZE; k++) kernel_eval_dWdx(x.f[k], &b.f[k]);
     *dw_dx = b;
