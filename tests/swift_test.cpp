@@ -53,6 +53,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <iterator>
 #include <vector>
 
 namespace {
@@ -218,7 +219,18 @@ int d_soft_orders(const std::string& header) {
 // deval_1's W and dW, deval_2's first W, dW and second W, dW, eval_W,
 // eval_dWdx, dWdx_force, dWdx_force_2's first and second.
 constexpr int simd_lanes = 8;
-constexpr std::size_t simd_values = 11;
+// simd.bin's values a point, in the driver's order: each a W (else a dW/du).
+struct SimdValue {
+    const char* name;
+    bool w;
+};
+constexpr SimdValue simd_outputs[] = {{"kernel_deval_1_vec's W", true},          {"kernel_deval_1_vec's dW", false},
+                                      {"kernel_deval_2_vec's first W", true},    {"kernel_deval_2_vec's first dW", false},
+                                      {"kernel_deval_2_vec's second W", true},   {"kernel_deval_2_vec's second dW", false},
+                                      {"kernel_eval_W_vec", true},               {"kernel_eval_dWdx_vec", false},
+                                      {"kernel_eval_dWdx_force_vec", false},     {"kernel_eval_dWdx_force_2_vec's first", false},
+                                      {"kernel_eval_dWdx_force_2_vec's second", false}};
+constexpr std::size_t simd_values = std::size(simd_outputs);
 constexpr const char* simd_driver = R"(#if defined(WITH_VECTORIZATION)
   o = fopen("simd.bin", "wb");
   if (!o) return 2;
@@ -400,11 +412,6 @@ void check_values(const fs::path& run, bool flushes, const std::string& spec, co
 
     const std::vector<float> simd = read_binary<float>(run / "simd.bin");
     ASSERT_EQ(simd.size(), simd_values * uf.size());
-    const char* const simd_names[simd_values] = {"kernel_deval_1_vec's W", "kernel_deval_1_vec's dW", "kernel_deval_2_vec's first W",
-                                                 "kernel_deval_2_vec's first dW", "kernel_deval_2_vec's second W",
-                                                 "kernel_deval_2_vec's second dW", "kernel_eval_W_vec", "kernel_eval_dWdx_vec",
-                                                 "kernel_eval_dWdx_force_vec", "kernel_eval_dWdx_force_2_vec's first",
-                                                 "kernel_eval_dWdx_force_2_vec's second"};
 
     const gen::Radial& W1 = facts.quantities.value;
     const gen::Radial dW1 = W1.derivative(), d2W1 = dW1.derivative();
@@ -425,12 +432,13 @@ void check_values(const fs::path& run, bool flushes, const std::string& spec, co
         // scalar function's value bit for bit (with it GCC may contract the lane loop otherwise)
         for (std::size_t j = 0; j < simd_values; ++j) {
             const float lane = simd[simd_values * i + j];
-            const bool is_w = j == 0 || j == 2 || j == 4 || j == 6;
+            const bool is_w = simd_outputs[j].w;
             EXPECT_LE(is_w ? float_error(lane, w, sw, flushes) : float_error(lane, dw, sdw, flushes), 1)
-                << simd_names[j] << " at u = " << hex(uf[i]) << ": " << lane << " vs " << (is_w ? w : dw);
+                << simd_outputs[j].name << " at u = " << hex(uf[i]) << ": " << lane << " vs " << (is_w ? w : dw);
             if (!flushes) {
                 EXPECT_EQ(std::memcmp(&lane, is_w ? &v[0] : &v[1], sizeof(float)), 0)
-                    << simd_names[j] << " at u = " << hex(uf[i]) << ": " << lane << ", the scalar function " << (is_w ? v[0] : v[1]);
+                    << simd_outputs[j].name << " at u = " << hex(uf[i]) << ": " << lane << ", the scalar function "
+                    << (is_w ? v[0] : v[1]);
             }
         }
         // SWIFT's rules
