@@ -13,6 +13,7 @@
 #include "error.hpp"
 #include "kernel.hpp"
 #include "rounding.hpp"
+#include "softening.hpp"
 
 #include <gmp.h>
 #include <mpfr.h>
@@ -26,6 +27,7 @@
 #include <functional>
 #include <optional>
 #include <set>
+#include <tuple>
 
 namespace mollify::gen {
 
@@ -236,8 +238,10 @@ public:
         else if (e.quantity == "code.h_power") h_power(e, v);
         else if (e.quantity == "code.gamma") gamma(e, v);
         else if (e.quantity == "code.coefficients") coefficients(e, v);
+        else if (e.quantity == "code.potential_h_derivative") potential_h_derivative(e, v);
         else e.bad("unknown quantity '" + e.quantity +
-                   "' (code.normalisation, code.gradient, code.h_power, code.gamma, code.coefficients)");
+                   "' (code.normalisation, code.gradient, code.h_power, code.gamma, code.coefficients, "
+                   "code.potential_h_derivative)");
         report_.verdicts.push_back(v);
     }
 
@@ -431,6 +435,92 @@ private:
         if (!(c == PiQ{Q(1), 0})) why.push_back(c.q == -1 && c.pi == 0 ? "wrong sign" : "constant factor " + ratio_string(c));
         v.diagnosis = why.empty() ? (s.reading ? "right (to the printed digits)" : "right") : errata::join(why, "; ");
         v.right = why.empty();
+    }
+
+    // d phi/dh of a softened gravitational potential per unit mass (3D, G = 1;
+    // adaptive softening, Price & Monaghan 2007): with support R h and
+    // G_K = 4 pi phi_1 of mollify's K (-1/x outside), phi(r, h) = G_K(x)/(R h),
+    // x = q/R, so d phi/dh = -(G_K + x G_K')(x) / (R h^2) (softening.hpp's
+    // h-derivative; 0 outside, where -1/r does not depend on h); params.outside
+    // "1/r" for a code whose potential is positive. Compared in s = q/R piece by
+    // piece: a ratio c s^k as for a gradient, or else published = a exact + b
+    // with constants a, b (a constant term off: the potential's -phi(0) dropped).
+    void potential_h_derivative(const Entry& e, CodeVerdict& v) {
+        const Setting s = read_setting(e);
+        if (s.dim != 3) e.bad("field 'params.dim': the softened potential's h-derivative is 3D gravity's, got " + std::to_string(s.dim));
+        const json& params = e.params();
+        const std::string outside = params.contains("outside") ? e.text(params, "outside", "params") : "-1/r";
+        if (outside != "-1/r" && outside != "1/r")
+            e.bad("field 'params.outside' must be \"-1/r\" or \"1/r\" (the code's potential outside), got '" + outside + "'");
+        v.published = e.text(*e.object, "expression", "");
+        const PiQ used = s.reading ? PiQ{*s.reading, s.constant.pi} : s.constant;
+        const Radial published = shape_radial(s.shape, s.support) * exact_of(used);
+        const Q sign = outside == "-1/r" ? Q(1) : Q(-1);
+        const Radial exact =
+            softening_h_derivative(make_kernel(parse_spec(s.spec), 3)) * (sphere_measure(3) * Exact(sign / s.support));
+        const std::string R = short_string(s.support);
+        v.exact = (s.support == 1 ? "-(G + q G')(q) / h^2" : "-(G + x G')(x) / (" + R + " h^2), x = q/" + R) + ", G = " +
+                  (sign == 1 ? "" : "-") + "4 pi phi_1 of " + s.spec + " (" + outside + " outside)";
+        if (const auto m = monomial_ratio(published, exact)) {
+            const PiQ c{m->c.q / pow(s.support, m->k), m->c.pi};
+            v.ratio = monomial_string(c, m->k);
+            v.right = m->k == 0 && c == PiQ{Q(1), 0};
+            v.diagnosis = v.right ? (s.reading ? "right (to the printed digits)" : "right")
+                          : m->k != 0 ? "off by q^" + std::to_string(m->k)
+                          : c.q == -1 && c.pi == 0 ? "wrong sign"
+                                                   : "constant factor " + ratio_string(c);
+            return;
+        }
+        const auto ab = affine_ratio(published, exact);
+        v.ratio = "not c q^k";
+        if (!ab) {
+            v.diagnosis = "differs from " + s.spec + "'s d phi/dh (no systematic cause found)";
+            return;
+        }
+        const auto& [a, b, c0] = *ab;
+        const bool unit = a == PiQ{Q(1), 0};
+        std::vector<std::string> why;
+        if (a.q == -1 && a.pi == 0) why.push_back("wrong sign");
+        else if (!unit) why.push_back("a factor " + ratio_string(a));
+        const Exact scaled_c0 = c0 * exact_of(a);
+        const auto dropped = single(scaled_c0 * Exact(Q(-1)));
+        why.push_back(dropped && *dropped == b
+                          ? "the constant term " + c0.to_string() + " (-phi(0) h, the potential at the centre) missing"
+                          : "the constant term off by " + exact_of(b).to_string());
+        v.ratio = "published = " + (unit ? std::string() : ratio_string(a) + " ") + "exact + (" + exact_of(b).to_string() + ") h^-2";
+        v.diagnosis = errata::join(why, "; ") + ": " + exact_of(b).to_string() +
+                      " h^-2 at the support's edge, where d phi/dh is 0 (continuous with the outside's)";
+    }
+
+    // published = a exact + b on every piece of the support, a and b constants (q pi^e), and the
+    // exact constant term at q = 0; nothing where no such a, b exist.
+    static std::optional<std::tuple<PiQ, PiQ, Exact>> affine_ratio(const Radial& p, const Radial& x) {
+        std::set<Q> cuts(p.breaks.begin(), p.breaks.end());
+        cuts.insert(x.breaks.begin(), x.breaks.end());
+        const std::vector<Q> br(cuts.begin(), cuts.end());
+        std::optional<PiQ> a, b;
+        std::optional<Exact> centre;
+        for (std::size_t i = 0; i + 1 < br.size() && br[i] < x.support(); ++i) {
+            Coefficients P = errata::coefficients(piece_at(p, br[i]));
+            const Coefficients X = errata::coefficients(piece_at(x, br[i]));
+            if (!centre) centre = X.count(0) ? X.at(0) : Exact();
+            for (const auto& [k, c] : X) {
+                if (k == 0) continue;
+                const auto it = P.find(k);
+                const auto r = it == P.end() ? std::nullopt : quotient(it->second, c);
+                if (!r || (a && !(*a == *r))) return std::nullopt;
+                a = r;
+            }
+            for (const auto& [k, c] : P)
+                if (k != 0 && !X.count(k)) return std::nullopt;
+            if (!a) return std::nullopt;
+            const Exact rest = (P.count(0) ? P.at(0) : Exact()) - (X.count(0) ? X.at(0) : Exact()) * exact_of(*a);
+            const auto r = rest.terms().empty() ? std::optional<PiQ>(PiQ{Q(0), 0}) : single(rest);
+            if (!r || (b && !(*b == *r))) return std::nullopt;
+            b = r;
+        }
+        if (!a || !b || b->q == 0) return std::nullopt;
+        return std::make_tuple(*a, *b, *centre);
     }
 
     void h_power(const Entry& e, CodeVerdict& v) {

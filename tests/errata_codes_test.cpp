@@ -237,10 +237,26 @@ TEST(CodeErrata, DualSPHysicsDecimalsWithPiFoldedIn) {
 TEST(CodeErrata, PhantomStockKernels) {
     for (const char* e : {"kernel_cubic.f90", "kernel_quartic.f90", "kernel_quintic.f90", "kernel_WendlandC2.f90",
                           "kernel_WendlandC4.f90", "kernel_WendlandC6.f90"})
-        expect_right("Phantom", e);
+        expect_right("Phantom", std::string(e) + ", D = 3, cnormk");
     // A short decimal is exact: 0.05 is 1/20, not its simpler neighbour 1/19.
     EXPECT_EQ(verdict("Phantom", "kernel_quartic.f90").published, "0.05 * pi^-1");
-    EXPECT_EQ(verdict("Phantom", "kernel_WendlandC2.f90").published, "1.3125 * pi^-1");
+    EXPECT_EQ(verdict("Phantom", "kernel_WendlandC2.f90, D = 3, cnormk").published, "1.3125 * pi^-1");
+}
+
+// d phi/dh of the softened potential (adaptive softening): Phantom's dphidh
+// of its stock kernels is -phi - q phi' exactly; SWIFT's potential_dh (its
+// Wendland C2 gravity softening, H = kernel_gamma h) is a quarter of it
+// without its constant term, so -3/(4 H^2) at the edge where d phi/dh is 0;
+// its theory note's k(u) has the opposite sign in the note's own (positive)
+// convention as well.
+TEST(CodeErrata, PotentialHDerivatives) {
+    expect_right("Phantom", "kernel_cubic.f90, D = 3, dphidh");
+    expect_right("Phantom", "kernel_WendlandC2.f90, D = 3, dphidh");
+    expect_wrong("SWIFT", "potential_dh, Wendland C2", "published = 1/4 exact + (-3/4) h^-2",
+                 "a factor 1/4; the constant term 3 (-phi(0) h, the potential at the centre) missing: -3/4 h^-2 at the "
+                 "support's edge");
+    expect_wrong("SWIFT", "d phi/dH, Wendland C2 softening, D = 3 (theory note)", "published = -1 exact + (-3) h^-2",
+                 "wrong sign; the constant term -3 (-phi(0) h");
 }
 
 TEST(CodeErrata, Gadget4AllRight) {
@@ -254,8 +270,9 @@ TEST(CodeErrata, Gadget4AllRight) {
 }
 
 TEST(CodeErrata, TotalsArePinned) {
-    EXPECT_EQ(report().verdicts.size(), 134u);
-    EXPECT_EQ(report().wrong(), 32);  // 22 before SWIFT's gammas were decided by their floats (ten more)
+    EXPECT_EQ(report().verdicts.size(), 138u);
+    // 22 before SWIFT's gammas were decided by their floats (ten more), 32 before the potentials' h-derivatives
+    EXPECT_EQ(report().wrong(), 34);
 }
 
 // --- deliberately wrong entries in a scratch folder
@@ -317,6 +334,36 @@ TEST_F(ScratchCodes, EachDiagnosis) {
     EXPECT_TRUE(r.verdicts[4].right);
     EXPECT_TRUE(r.verdicts[5].right);
     EXPECT_EQ(r.wrong(), 4);
+}
+
+// code.potential_h_derivative: Wendland C2's d phi/dh = (k(q) + 3) h^-2 on
+// support 1 (-1/r outside), k = -24q^7 + 105q^6 - 168q^5 + 105q^4 - 21q^2;
+// twice it is a constant factor, the positive convention its sign, one
+// coefficient off no systematic cause; a 2D entry or an unknown `outside` is
+// an Error naming the field.
+TEST_F(ScratchCodes, PotentialHDerivativeDiagnoses) {
+    auto dphidh = [](const std::string& label, const std::string& constant, const std::string& q2, const std::string& extra,
+                     int dim = 3) {
+        return R"({"entry": ")" + label + R"(", "quantity": "code.potential_h_derivative", "file": "k.h", "seen": true,
+            "expression": "e", "says": "s", "params": {"spec": "wendland:k=1", "dim": )" + std::to_string(dim) +
+               R"(, "support": "1")" + extra + R"(}, "printed": {"constant": ")" + constant + R"(", "pi_power": 0, "shape": [
+              {"coeff": "-24", "factors": [["0", "1", 7]], "to": "1"}, {"coeff": "105", "factors": [["0", "1", 6]], "to": "1"},
+              {"coeff": "-168", "factors": [["0", "1", 5]], "to": "1"}, {"coeff": "105", "factors": [["0", "1", 4]], "to": "1"},
+              {"coeff": ")" + q2 + R"(", "factors": [["0", "1", 2]], "to": "1"}, {"coeff": "3", "factors": [], "to": "1"}]}})";
+    };
+    write(dphidh("right", "1", "-21", "") + "," + dphidh("twice", "2", "-21", "") + "," +
+          dphidh("positive", "1", "-21", R"(, "outside": "1/r")") + "," + dphidh("q^2 off", "1", "-20", ""));
+    const CodeErrataReport r = check_code_errata(dir_);
+    ASSERT_EQ(r.verdicts.size(), 4u);
+    EXPECT_TRUE(r.verdicts[0].right) << mollify::gen::format_line(r.verdicts[0]);
+    EXPECT_EQ(r.verdicts[0].diagnosis, "right");
+    EXPECT_EQ(r.verdicts[1].diagnosis, "constant factor 2");
+    EXPECT_EQ(r.verdicts[2].diagnosis, "wrong sign");
+    EXPECT_FALSE(r.verdicts[3].right);
+    EXPECT_EQ(r.verdicts[3].diagnosis, "differs from wendland:k=1's d phi/dh (no systematic cause found)");
+    EXPECT_TRUE(contains(error_of(dphidh("2D", "1", "-21", "", 2)), "field 'params.dim'")) << error_of(dphidh("2D", "1", "-21", "", 2));
+    EXPECT_TRUE(contains(error_of(dphidh("o", "1", "-21", R"(, "outside": "0")")), "field 'params.outside' must be"))
+        << error_of(dphidh("o", "1", "-21", R"(, "outside": "0")"));
 }
 
 TEST_F(ScratchCodes, ShapeOfAnotherKernel) {
