@@ -522,14 +522,61 @@ std::vector<EmittedPiece> recentred(const Radial& f, std::vector<EmittedPiece> p
     return out;
 }
 
-}  // namespace
+// A float result (ResultPrecision::float_value) needs the double evaluation
+// within 2^-30 of max(|f|, |r f'|) only, not Precision::fast's ~32 double
+// ulps: Horner's rounding, at most ~2n steps of 2^-53 times sum |terms|, is
+// below 2^-36 of that scale (n <= 16) where a form is conditioned up to
+// 2^12. So a polynomial piece conditioned so keeps its own terms (factored
+// at the edge where it vanishes there) instead of Taylor sub-pieces or a
+// potential's exterior form plus remainder.
+constexpr double float_recentre_condition = 0x1p12;
 
-std::vector<EmittedPiece> plan_quantity(const Radial& f, bool potential_like, const std::vector<Radial>& parts) {
+// `planned` (the double plan of f, which tiles each of f's pieces) with every
+// piece of f that is a Laurent polynomial (M4's potential has a 1/r term)
+// whose own terms are conditioned within float_recentre_condition as one
+// piece of its own terms; not one that vanishes at its lower end, whose
+// Taylor polynomial about that end keeps f's relative accuracy there (M5's
+// E_4 beyond 1/5: its own terms were 4e5 float ulps off next to it).
+std::vector<EmittedPiece> for_float_results(const Radial& f, std::vector<EmittedPiece> planned) {
+    std::vector<EmittedPiece> out;
+    std::size_t next = 0;  // the first of `planned` not yet taken
+    for (std::size_t i = 0; i < f.pieces.size(); ++i) {
+        const Q lo = f.breaks[i], hi = f.breaks[i + 1];
+        const ClosedForm& form = f.pieces[i];
+        std::vector<EmittedPiece> own;
+        while (next < planned.size() && planned[next].hi && *planned[next].hi <= hi) own.push_back(std::move(planned[next++]));
+        if (own.empty() || own.front().lo != lo || *own.back().hi != hi)
+            fail("internal: the plan of a quantity does not tile its piece [" + short_string(lo) + ", " + short_string(hi) + ")");
+        std::vector<EmittedTerm> terms = stable_terms(form, hi);
+        std::map<Q, double> scales;
+        const bool compact = !form.is_zero() && form.has_only_basis_one() && !vanishes_at(form, lo) &&
+                             worst_condition(Magnitude(terms), form, form.derivative(), lo, hi, scales) <=
+                                 float_recentre_condition;
+        if (compact) {
+            out.push_back({lo, hi, std::move(terms), ""});
+            continue;
+        }
+        for (EmittedPiece& p : own) out.push_back(std::move(p));
+    }
+    for (; next < planned.size(); ++next) out.push_back(std::move(planned[next]));  // the exterior
+    return out;
+}
+
+std::vector<EmittedPiece> double_plan(const Radial& f, bool potential_like, const std::vector<Radial>& parts) {
     std::vector<EmittedPiece> emitted =
         parts.empty() ? emitted_pieces(f, potential_like) : combination_pieces(f, parts, potential_like);
     if (potential_like) return recentred(f, std::move(emitted), Recentre::every_piece);
     if (parts.empty()) return recentred(f, std::move(emitted), Recentre::interior_pieces);
     return emitted;  // moved (a conditional expression would copy every piece, its Taylor coefficients too)
+}
+
+}  // namespace
+
+std::vector<EmittedPiece> plan_quantity(const Radial& f, bool potential_like, const std::vector<Radial>& parts,
+                                        ResultPrecision result) {
+    std::vector<EmittedPiece> planned = double_plan(f, potential_like, parts);
+    if (result == ResultPrecision::float_value) return for_float_results(f, std::move(planned));
+    return planned;
 }
 
 // The emitted (rounded) Taylor coefficients of a centred piece (kept in the

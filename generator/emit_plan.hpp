@@ -35,11 +35,20 @@ struct EmittedPiece {
     std::optional<CentredPiece> centred{};  // a Taylor piece about a centre (then `terms` is empty)
 };
 
+// What the emitted form's double evaluation must reach: Precision::fast's
+// ~32 double ulps of max(|f|, |r f'|) (the runtime and the double-valued
+// files), or only a float result (SWIFT's float functions): within 2^-30 of
+// that scale, which a piece's own polynomial reaches where Precision::fast
+// needs Taylor sub-pieces; fewer pieces and branches, so that a loop around
+// the call vectorises (SWIFT's gravity pair loop, stop 90).
+enum class ResultPrecision { double_value, float_value };
+
 // The pieces of quantity `f` as emitted, in order, the exterior last.
 // `parts`: for a combination W = sum_j w_j psi_{a_j}, the same quantity of
 // each term, w_j f_j (else empty). `potential_like`: the potential and its
 // derivatives, which do not vanish at the support edge.
-std::vector<EmittedPiece> plan_quantity(const Radial& f, bool potential_like, const std::vector<Radial>& parts);
+std::vector<EmittedPiece> plan_quantity(const Radial& f, bool potential_like, const std::vector<Radial>& parts,
+                                        ResultPrecision result = ResultPrecision::double_value);
 
 // The emitted (rounded) Taylor coefficients of a centred piece, and the low
 // part of the k-th of them, hi (correctly rounded).

@@ -225,9 +225,9 @@ RoundedTerm rounded_term(const EmittedTerm& term, const std::optional<Q>& hi, do
 }  // namespace
 
 std::optional<std::vector<RoundedPiece>> rounded_quantity(const Radial* f, bool potential_like,
-                                                          const std::vector<Radial>& parts) {
+                                                          const std::vector<Radial>& parts, ResultPrecision result) {
     if (!f) return std::nullopt;
-    const std::vector<EmittedPiece> emitted = plan_quantity(*f, potential_like, parts);
+    const std::vector<EmittedPiece> emitted = plan_quantity(*f, potential_like, parts, result);
     check_emitted(*f, emitted);
     std::vector<RoundedPiece> out;
     for (const auto& [lo, hi, terms, note, series, centred] : emitted) {

@@ -5,6 +5,7 @@
 // C++ writer and the data writer both write.
 #pragma once
 
+#include "emit_plan.hpp"
 #include "radial.hpp"
 
 #include <mollify/table.hpp>
@@ -56,7 +57,8 @@ struct RoundedPiece {
 // nullopt where the quantity is absent (a potential of a kernel without one).
 // `parts`: a combination's terms' quantities w_j f_j (else empty).
 std::optional<std::vector<RoundedPiece>> rounded_quantity(const Radial* f, bool potential_like,
-                                                          const std::vector<Radial>& parts);
+                                                          const std::vector<Radial>& parts,
+                                                          ResultPrecision result = ResultPrecision::double_value);
 
 // One split grid for all of a kernel's split terms in the quantities whose
 // pieces are one term each: the coarsest of their own grids, for each term

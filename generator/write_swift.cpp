@@ -36,6 +36,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 namespace mollify::gen {
 
@@ -103,8 +104,17 @@ std::string double_constant(const std::string& name, const SwiftConstant& c) {
 // The unit sphere's volume in D dimensions (SWIFT's hydro_dimension_unit_sphere): 2, pi, 4 pi/3.
 Exact unit_ball_volume(int dim) { return sphere_measure(dim) * Exact(Q(1, dim)); }
 
-std::vector<RoundedPiece> round_or_fail(const Radial& f, bool potential_like, const std::string& what) {
-    auto r = rounded_quantity(&f, potential_like, {});
+// The functions written here that take mollify's functions straight from
+// the exact world (gravity, potential_dh) return floats: planned for float
+// results (emit_plan.hpp), each polynomial piece one Horner polynomial where
+// that is accurate enough, so that SWIFT's gravity pair loop, which inlines
+// kernel_grav_pot_eval and kernel_grav_force_eval, still vectorises (with
+// the double plan's Taylor sub-pieces it did not: GCC no longer unswitched
+// the loop on `periodic`, 2x the stock run's time, stop 90).
+// kernel_grav_eval_*_double (SWIFT's force checks) keep the double plan.
+std::vector<RoundedPiece> round_or_fail(const Radial& f, bool potential_like, const std::string& what,
+                                        ResultPrecision result = ResultPrecision::float_value) {
+    auto r = rounded_quantity(&f, potential_like, {}, result);
     if (!r) fail("internal: --target swift: " + what + " did not round");
     return std::move(*r);
 }
@@ -267,6 +277,51 @@ __attribute__((always_inline)) static inline void kernel_eval_dWdx_force_2_vec(v
 #endif
 )";
 
+// SWIFT's adaptive softening (configure --with-adaptive-softening; src/
+// adaptive_softening*.h) ties the gravitational softening support to the
+// gas's, eps = H = kernel_gamma h, and sums m_j potential_dh(u_ij, 1/h_i)
+// (Price & Monaghan 2007, eq. 26). potential_dh is d phi/dh of the softened
+// potential phi = m W_pot(r/H)/H of kernel_gravity.h, per unit mass:
+//   d/dh [W_pot(x)/H] = -(W_pot(x) + x W_pot'(x)) / (kernel_gamma h^2),
+// x = r/H = u/kernel_gamma, and 0 for x >= 1 (outside, -1/r does not depend
+// on h; inside it tends to 0 at the edge, the potential being C^1). That is
+// softening.hpp's h-derivative (Phantom's dphidh) times 4 pi. Given where
+// kernel_gravity.h is (3D, a Poisson potential); elsewhere ADAPTIVE_SOFTENING
+// is an #error naming why.
+std::optional<Radial> potential_h_derivative(const KernelFacts& facts) {
+    if (facts.kernel.dim != 3 || !quantity_of(facts, static_cast<int>(table::QuantityId::potential))) return std::nullopt;
+    return softening_h_derivative(facts.kernel) * sphere_measure(3);
+}
+
+std::string no_potential_dh_reason(const KernelFacts& facts) {
+    return facts.kernel.dim != 3 ? "SWIFT's gravity is 3D" : "the kernel has no Poisson potential";
+}
+
+std::string potential_dh_note(bool given, const KernelFacts& facts) {
+    if (!given)
+        return " * potential_dh (SWIFT's adaptive softening) is not given: " + no_potential_dh_reason(facts) +
+               " (ADAPTIVE_SOFTENING is an #error).\n";
+    return " * potential_dh(u, h_inv): d phi/dh of the softened potential phi = m W_pot(r/H)/H of this kernel's\n"
+           " * kernel_gravity.h, per unit mass, with H = kernel_gamma h (SWIFT's adaptive softening sets eps = kernel_gamma h):\n"
+           " * -(W_pot(x) + x W_pot'(x)) / (kernel_gamma h^2), x = u/kernel_gamma, 0 for x >= 1 (Price & Monaghan 2007's\n"
+           " * d phi/dh, their eq. 26 as SWIFT cites it), in double, rounded once to float. SWIFT's stock potential_dh\n"
+           " * (Wendland C2 only) is (d phi/dh - 3/(kernel_gamma h^2))/4: the constant term -W_pot(0)/(kernel_gamma h^2)\n"
+           " * and a factor 4 missing (mollify-gen errata --codes). Adaptive softening needs this file's kernel_gravity.h\n"
+           " * beside it (the same kernel); SWIFT's configure and adaptive_softening.h accept it only with\n"
+           " * --with-kernel=wendland-C2, whose macro these files ignore.\n";
+}
+
+std::string potential_dh_function(bool given, const std::string& prefix, const KernelFacts& facts) {
+    if (!given)
+        return "\n#ifdef ADAPTIVE_SOFTENING\n#error \"" + facts.spec + " in D = " + std::to_string(facts.kernel.dim) +
+               ": no potential_dh for SWIFT's adaptive softening (" + no_potential_dh_reason(facts) + ")\"\n#endif\n";
+    return "\n/* d phi/dh at u = r/h per unit mass, phi = W_pot(r/H)/H (kernel_gravity.h), H = kernel_gamma h; 0 for u >= "
+           "gamma */\n"
+           "static inline float potential_dh(const float u, const float h_inv) {\n"
+           "    const double x = (double)u * " + prefix + "_gamma_inv;\n"
+           "    return (float)(" + prefix + "_dphidh(x) * " + prefix + "_gamma_inv * ((double)h_inv * (double)h_inv));\n}\n";
+}
+
 std::string hydro_file(const TargetKernel& tk, const std::string& command) {
     const KernelFacts& facts = tk.facts;
     const ExactKernel& k = facts.kernel;
@@ -288,6 +343,11 @@ std::string hydro_file(const TargetKernel& tk, const std::string& command) {
     std::string functions = c_unit_function(prefix + "_W1", "W_1(x) = C w(x), mollify's kernel on support 1",
                                             code_quantity(prefix + "_W1", *W, constants), s);
     functions += c_unit_function(prefix + "_dW1", "W_1'(x) = C w'(x)", code_quantity(prefix + "_dW1", *dW, constants), s);
+    const std::optional<Radial> dphi_dh = potential_h_derivative(facts);
+    if (dphi_dh)
+        functions += c_unit_function(prefix + "_dphidh", "-(W_pot(x) + x W_pot'(x)), W_pot = 4 pi phi_1 (kernel_gravity.h); 0 for x >= 1",
+                                     code_quantity(prefix + "_dphidh", round_or_fail(*dphi_dh, false, "potential_dh"), constants),
+                                     s);
 
     const std::string dim_macro = "HYDRO_DIMENSION_" + std::to_string(d) + "D";
     std::string out = "/*\n" + banner(command, " *");
@@ -306,7 +366,7 @@ std::string hydro_file(const TargetKernel& tk, const std::string& command) {
            expanded_layout_loss(k) + ".\n"
            " * Signs: " + comment_text(signs.note) + "\n"
            " * Not given: kernel_degree, kernel_ivals, kernel_coeffs (SWIFT's table layout, read only inside its stock\n"
-           " * kernel_hydro.h), potential_dh (stock: Wendland C2 only).\n"
+           " * kernel_hydro.h).\n" + potential_dh_note(dphi_dh.has_value(), facts) +
            " * The SIMD functions kernel_*_vec (WITH_VECTORIZATION: SWIFT's GADGET-2 SPH scheme's hand-vectorised\n"
            " * loops call them) take every lane through the scalar function, so each lane is its value bit for bit;\n"
            " * GCC vectorises that loop under SWIFT's flags (-O3 -ffast-math). SWIFT's stock file has them for\n"
@@ -359,6 +419,7 @@ std::string hydro_file(const TargetKernel& tk, const std::string& command) {
            "static inline void kernel_eval_double(double u, double *restrict W) {\n"
            "    const double w = " + prefix + "_gamma_inv_dim * " + prefix + "_W1(u * " + prefix + "_gamma_inv);\n"
            "    *W = " + clamp_wd + ";\n}\n";
+    out += potential_dh_function(dphi_dh.has_value(), prefix, facts);
     out += simd_functions;
     out += "\nvoid hydro_kernel_dump(int N);\n\n#endif /* SWIFT_KERNEL_HYDRO_H */\n";
     return out;
@@ -369,6 +430,7 @@ std::string hydro_file(const TargetKernel& tk, const std::string& command) {
 struct GravityFunction {
     std::string name, meaning;
     Radial f;
+    ResultPrecision result = ResultPrecision::float_value;
 };
 
 std::string gravity_file(const TargetKernel& tk, const std::string& command) {
@@ -387,6 +449,8 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
     std::vector<GravityFunction> fs = {
         {prefix + "_pot", "W_pot(u) = 4 pi phi_1(u): H phi/m (-1/u outside)", *phi * four_pi},
         {prefix + "_force", "W_f(u) = 4 pi phi_1'(u)/u = W_pot'/u (1/u^3 outside)", *dphi_r * four_pi},
+        {prefix + "_pot_double", "W_pot(u), planned for a double result", *phi * four_pi, ResultPrecision::double_value},
+        {prefix + "_force_double", "W_f(u), planned for a double result", *dphi_r * four_pi, ResultPrecision::double_value},
     };
     for (int n = 1; n <= orders; ++n)
         fs.push_back({prefix + "_dsoft" + std::to_string(n),
@@ -394,7 +458,7 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
                       soft.multipole[static_cast<std::size_t>(n - 1)]});
     std::vector<CodeConstant> constants;
     std::vector<std::vector<RoundedPiece>> rounded;
-    for (const GravityFunction& g : fs) rounded.push_back(round_or_fail(g.f, true, g.name));
+    for (const GravityFunction& g : fs) rounded.push_back(round_or_fail(g.f, true, g.name, g.result));
     std::string functions;
     for (std::size_t i = 0; i < fs.size(); ++i)
         functions += c_unit_function(fs[i].name, fs[i].meaning, code_quantity(fs[i].name, rounded[i], constants), s);
@@ -419,7 +483,10 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
                std::to_string(soft.smoothness.guaranteed) + ") for this kernel and E_0..E_" + std::to_string(finite) +
                " are finite at u = 0;\n * SWIFT's M2P needs D_soft_(order+2), its M2L D_soft_(order+1) (src/gravity_derivatives.h), so\n"
                " * SELF_GRAVITY_MULTIPOLE_ORDER > " + std::to_string(orders - 2) + " is an #error.\n";
-    out += " * Evaluated in double as mollify's Precision::fast (factored at the edge), rounded once to float.\n"
+    out += " * Evaluated in double and rounded once to float: each piece one polynomial (factored at the edge where it\n"
+           " * vanishes there) where that is within 2^-30 of max(|f|, |u f'|), as a float result needs, else as mollify's\n"
+           " * Precision::fast (Taylor pieces); short and branch-light, so SWIFT's gravity pair loop vectorises around\n"
+           " * them. kernel_grav_eval_*_double (SWIFT's force checks) as Precision::fast, not rounded to float.\n"
            " * Each constant is correctly rounded, its exact value beside it.\n */\n";
     out += "#ifndef SWIFT_KERNEL_GRAVITY_H\n#define SWIFT_KERNEL_GRAVITY_H\n\n#include <math.h>\n"
            "#ifndef MOLLIFY_SWIFT_STANDALONE\n/* as SWIFT's stock kernel_gravity.h */\n#include \"inline.h\"\n#include \"minmax.h\"\n#endif\n\n";
@@ -443,8 +510,8 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
     out += "};\n" + functions;
     out += "\nstatic inline float kernel_grav_pot_eval(const float u) { return (float)" + prefix + "_pot((double)u); }\n";
     out += "static inline float kernel_grav_force_eval(const float u) { return (float)" + prefix + "_force((double)u); }\n";
-    out += "static inline void kernel_grav_eval_pot_double(double u, double *const W) { *W = " + prefix + "_pot(u); }\n";
-    out += "static inline void kernel_grav_eval_force_double(double u, double *const W) { *W = " + prefix + "_force(u); }\n";
+    out += "static inline void kernel_grav_eval_pot_double(double u, double *const W) { *W = " + prefix + "_pot_double(u); }\n";
+    out += "static inline void kernel_grav_eval_force_double(double u, double *const W) { *W = " + prefix + "_force_double(u); }\n";
     for (int n = 1; n <= orders; ++n)
         out += "static inline float D_soft_" + std::to_string(n) + "(const float u) { return (float)" + prefix + "_dsoft" +
                std::to_string(n) + "((double)u); }\n";

@@ -10,7 +10,10 @@
 // MPFR (2048 bits; 8192 below 1e-3): W(u) = gamma^-D W_1(u/gamma), dW/du =
 // gamma^-(D+1) W_1'(u/gamma) with gamma = sqrt(gamma^2) from the exact
 // second moment; W_pot = 4 pi phi_1, W_f = 4 pi phi_1'/u, D_soft_n from
-// softening.hpp's swift_d_soft. SWIFT's own rules are checked (W >= 0,
+// softening.hpp's swift_d_soft; potential_dh(u, 1/h) = -(W_pot + x W_pot')(x)
+// / (gamma h^2), x = u/gamma (d phi/dh with H = gamma h, SWIFT's adaptive
+// softening), at 1/h = 1, tiny and huge, and an #error under
+// ADAPTIVE_SOFTENING in 1D and 2D. SWIFT's own rules are checked (W >= 0,
 // dW <= 0 for the clamped kernels, kernel_eval = kernel_deval's W and
 // kernel_eval_dWdx its dW bit for bit, kernel_eval_double rounded to float
 // = kernel_eval), the stock values where SWIFT has the kernel (Wendland C2:
@@ -125,6 +128,10 @@ double double_ulp(double v) { return std::fabs(v) < DBL_MIN ? std::ldexp(1.0, -1
 // error (the Precision::fast form, <= 32 double ulps of max(|f|, |u f'|),
 // README "Runtime accuracy") is allowed on top: it matters only within
 // ~2^-24 relative of an interior root of f (the D_soft_n, lobed kernels).
+// The gravity functions and potential_dh are planned for float results
+// (emit_plan.hpp: one polynomial a piece where it is conditioned within
+// 2^12, so within 2^-36 of that scale by design) and are held to the same
+// 64 double ulps here, which they meet at every point (measured).
 double float_error(float y, double exact, double scale) {
     const double slack = 64 * double_ulp(std::max(std::fabs(exact), scale));
     return std::max(0.0, std::fabs(static_cast<double>(y) - exact) - slack) / float_ulp(exact);
@@ -260,6 +267,11 @@ constexpr const char* simd_driver = R"(#if defined(WITH_VECTORIZATION)
 #endif
 )";
 
+// The 1/h potential_dh is called with in the driver: 1, one with all its bits
+// set, and tiny and huge ones (the result scales as h^-2: 2^-120 .. 2^120
+// times ~3, inside the normal floats).
+constexpr float potential_dh_h_inv[] = {1.0f, 0x1.fffffep-1f, 0x1p-60f, 0x1.3p+59f};
+
 std::string driver(const std::vector<float>& uf, const std::vector<double>& ud, const std::vector<float>& gf,
                    const std::vector<double>& gd, int orders) {
     std::ostringstream s;
@@ -281,6 +293,14 @@ std::string driver(const std::vector<float>& uf, const std::vector<double>& ud, 
       << "    fwrite(&w, sizeof(double), 1, o);\n  }\n  fclose(o);\n  printf(\"%s\\n\", kernel_name);\n"
       << simd_driver;
     if (orders) {
+        // potential_dh (SWIFT's adaptive softening) at every hydro point for each of potential_dh_h_inv
+        s << "  o = fopen(\"potential_dh.bin\", \"wb\");\n  if (!o) return 2;\n  {\n    unsigned j;\n"
+          << "    const float h_inv[] = {";
+        for (float x : potential_dh_h_inv) s << hex(x) << "f, ";
+        s << "};\n    for (j = 0; j < sizeof h_inv / sizeof h_inv[0]; ++j)\n"
+          << "      for (i = 0; i < sizeof uf / sizeof uf[0]; ++i) {\n"
+          << "        const float v = potential_dh(uf[i], h_inv[j]);\n        fwrite(&v, sizeof(float), 1, o);\n      }\n"
+          << "  }\n  fclose(o);\n";
         s << "  o = fopen(\"gravity.bin\", \"wb\");\n  if (!o) return 2;\n  {\n"
           << "    const double c[2] = {kernel_gravity_softening_plummer_equivalent, kernel_gravity_softening_plummer_equivalent_inv};\n"
           << "    fwrite(c, sizeof(double), 2, o);\n  }\n"
@@ -356,6 +376,12 @@ void check_kernel(const fs::path& root, const std::string& spec, int dim, bool c
                                    dir / "capture");
         EXPECT_NE(r.status, 0) << "SELF_GRAVITY_MULTIPOLE_ORDER = " << orders - 1 << " needs D_soft_" << orders + 1;
         EXPECT_NE(r.err.find("D_soft_" + std::to_string(orders + 1) + " and higher are not certified"), std::string::npos) << r.err;
+    }
+    if (!gravity) {  // SWIFT's adaptive softening calls potential_dh: no file without it may build there silently
+        const auto r = run_command("cd '" + dir.string() + "' && " + cc + defines + " -DADAPTIVE_SOFTENING -c driver.c -o adaptive.o",
+                                   dir / "capture");
+        EXPECT_NE(r.status, 0) << "ADAPTIVE_SOFTENING without potential_dh";
+        EXPECT_NE(r.err.find("no potential_dh for SWIFT's adaptive softening (SWIFT's gravity is 3D)"), std::string::npos) << r.err;
     }
     // The same driver built with SWIFT's optimisation flags, run in its own folder.
     const fs::path swift_built = dir / "swift_cflags";
@@ -473,6 +499,38 @@ void check_values(const fs::path& run, bool flushes, const std::string& spec, co
     std::printf("%s D=%d, %s: kernel_hydro.h worst %.3f float ulp (beyond the double slack), kernel_eval_double %.2f ulp\n",
                 spec.c_str(), dim, build, worst, worst_double);
     if (!gravity) return;
+
+    // potential_dh: d/dh [W_pot(r/H)/H] = -(W_pot + x W_pot')(x) / (gamma h^2), x = u/gamma, H = gamma h,
+    // W_pot = 4 pi phi_1; built here from phi_1 itself (not softening.hpp's h-derivative, which the file
+    // is made from), 0 for x >= 1.
+    {
+        const std::vector<float> pdh = read_binary<float>(run / "potential_dh.bin");
+        ASSERT_EQ(pdh.size(), std::size(potential_dh_h_inv) * uf.size());
+        const gen::Radial W_pot = *facts.quantities.potential * gen::sphere_measure(3);
+        const gen::Radial minus_d = W_pot + W_pot.derivative().times(gen::Laurent::monomial(gen::Q(1), 1));
+        const gen::Radial slope = minus_d.derivative();
+        double pworst = 0;
+        for (std::size_t j = 0; j < std::size(potential_dh_h_inv); ++j)
+            for (std::size_t i = 0; i < uf.size(); ++i) {
+                const float y = pdh[j * uf.size() + i];
+                const unsigned b = bits_at(uf[i]);
+                const Real x = real(static_cast<double>(uf[i]), b) / gamma_hi;
+                const Real hi2 = real(static_cast<double>(potential_dh_h_inv[j]), b) * real(static_cast<double>(potential_dh_h_inv[j]), b);
+                const Real c = -hi2 / gamma_hi;
+                const double e = x >= 1 ? 0.0 : at(minus_d, x, c, b);
+                const double sc = x >= 1 ? 0.0 : std::fabs(at(slope, x, x * c, b));
+                const double err = x >= 1 ? (y == 0 ? 0.0 : HUGE_VAL) : float_error(y, e, sc, flushes);
+                pworst = std::max(pworst, err);
+                EXPECT_LE(err, 1) << "potential_dh(" << hex(uf[i]) << ", " << hex(potential_dh_h_inv[j]) << ") = " << y
+                                  << ", exact " << e;
+            }
+        // Wendland C2, SWIFT's own kernel: d phi/dh at 0 is -W_pot(0)/gamma = 3/gamma for h = 1, where SWIFT's
+        // stock potential_dh gives 0 (its constant term is missing)
+        if (spec == "wendland:k=1") {
+            EXPECT_EQ(pdh[0], rn_float(3 / gamma_hi)) << "potential_dh(0, 1)";
+        }
+        std::printf("%s, %s: potential_dh worst %.3f float ulp (beyond the double slack)\n", spec.c_str(), build, pworst);
+    }
 
     // Gravity: W_pot = 4 pi phi_1, W_f = 4 pi phi_1'/u, D_soft_n (softening.hpp), u = r/H.
     const std::vector<float> gv = read_binary<float>(run / "gravity.bin");
@@ -694,6 +752,39 @@ TEST(Swift, SimdFunctionsOnlyWithSwiftsVectorisation) {
     ASSERT_NO_FATAL_FAILURE(run_in(dir, "clang -Weverything",
                                    "clang -std=gnu99 -O2 -Weverything -Werror -DMOLLIFY_SWIFT_STANDALONE -DHYDRO_DIMENSION_3D "
                                    "-DWITH_VECTORIZATION -DGADGET2_SPH -DSELF_GRAVITY_MULTIPOLE_ORDER=3 -c strict.c -o strict.o"));
+}
+
+// SWIFT's pair-gravity loop inlines kernel_grav_pot_eval and
+// kernel_grav_force_eval. With the double plan's forms (Taylor pieces, the
+// exterior plus a remainder factored at the edge, divisions) their length
+// kept GCC from unswitching SWIFT's loop on `periodic`, and the loop stayed
+// scalar: 2x the stock Evrard run (stop 90, by hand). The float functions
+// take one polynomial a piece of the kernel (emit_plan.hpp's float plan),
+// the double ones (kernel_grav_eval_*_double) keep the double plan's Taylor
+// pieces. (M5's D_soft_5, which vanishes at 1/5, keeps its Taylor piece
+// there: Swift.ClampedKernelsMatchTheExactKernelAndSwiftsRules, 4e5 float
+// ulps off next to 1/5 without it.)
+TEST(Swift, FloatGravityFunctionsTakeOnePolynomialAPiece) {
+    const fs::path golden = fs::path(MOLLIFY_PEERS_GOLDEN_DIR) / "swift";
+    for (const std::string id : {"wendland_k_1_D3", "cubic_spline_D3"}) {
+        SCOPED_TRACE(id);
+        const std::string h = slurp(golden / id / "kernel_gravity.h");
+        const auto body = [&](const std::string& name) {
+            const std::string head = "static inline double mollify_swift_grav_" + id + "_" + name + "(double q) {";
+            const std::size_t at = h.find(head);
+            EXPECT_NE(at, std::string::npos) << head;
+            return at == std::string::npos ? std::string() : h.substr(at, h.find("\n}\n", at) - at);
+        };
+        const int pieces = id == "cubic_spline_D3" ? 2 : 1;  // the kernel's pieces on [0, 1)
+        for (const char* f : {"pot", "force", "dsoft1", "dsoft2", "dsoft5"}) {
+            const std::string b = body(f);
+            EXPECT_EQ(b.find("Taylor"), std::string::npos) << b;
+            int evaluations = 0;
+            for (std::size_t at = b.find("y = "); at != std::string::npos; at = b.find("y = ", at + 1)) ++evaluations;
+            EXPECT_EQ(evaluations, pieces) << b;
+        }
+        EXPECT_NE(body("pot_double").find("Taylor polynomial"), std::string::npos) << "the double functions' plan";
+    }
 }
 
 // tests/golden/peers/swift regenerated: any change of the writer's output

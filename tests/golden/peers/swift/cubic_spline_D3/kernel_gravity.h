@@ -15,7 +15,10 @@
  * D_soft_6 and higher are not given: certified_softening certifies phi^(0..4) for this kernel and E_0..E_5 are finite at u = 0;
  * SWIFT's M2P needs D_soft_(order+2), its M2L D_soft_(order+1) (src/gravity_derivatives.h), so
  * SELF_GRAVITY_MULTIPOLE_ORDER > 3 is an #error.
- * Evaluated in double as mollify's Precision::fast (factored at the edge), rounded once to float.
+ * Evaluated in double and rounded once to float: each piece one polynomial (factored at the edge where it
+ * vanishes there) where that is within 2^-30 of max(|f|, |u f'|), as a float result needs, else as mollify's
+ * Precision::fast (Taylor pieces); short and branch-light, so SWIFT's gravity pair loop vectorises around
+ * them. kernel_grav_eval_*_double (SWIFT's force checks) as Precision::fast, not rounded to float.
  * Each constant is correctly rounded, its exact value beside it.
  */
 #ifndef SWIFT_KERNEL_GRAVITY_H
@@ -89,89 +92,114 @@ static inline double mollify_c_arcsin(double q, double e) { return atan2(q, moll
 #endif
 
 /* The coefficients of every function, in order (function, piece, term, power). */
-static const double mollify_swift_grav_cubic_spline_D3_c[66] = {
-    -0x1.3fbbbbbbbbbbcp+1, /* [0] -1199/480 */
-    0x1.1888888888889p+1, /* [1] 263/120 */
-    0x1.5dddddddddddep+1, /* [2] 41/15 */
-    -0x1.6666666666666p+2, /* [3] -28/5 */
-    -0x1.999999999999ap+0, /* [4] -8/5 */
+static const double mollify_swift_grav_cubic_spline_D3_c[93] = {
+    -0x1.6666666666666p+1, /* [0] -14/5 */
+    0x0p+0, /* [1] 0 */
+    0x1.5555555555555p+2, /* [2] 16/3 */
+    0x0p+0, /* [3] 0 */
+    -0x1.3333333333333p+3, /* [4] -48/5 */
     0x1.999999999999ap+2, /* [5] 32/5 */
-    -0x1p+0, /* [6] -1 */
-    0x1.1111111111111p+0, /* [7] 16/15 */
-    0x1.1111111111111p+1, /* [8] 32/15 */
-    -0x1p+0, /* [9] -1 */
-    0x1.1888888888889p+3, /* [10] 263/30 */
-    -0x1.a666666666666p+3, /* [11] -66/5 */
-    -0x1.ccccccccccccdp+3, /* [12] -72/5 */
-    0x1p+5, /* [13] 32 */
-    0x1p+0, /* [14] 1 */
-    -0x1.1111111111111p+0, /* [15] -16/15 */
-    -0x1.1111111111111p+2, /* [16] -64/15 */
-    -0x1.5555555555555p+3, /* [17] -32/3 */
-    0x1p+0, /* [18] 1 */
-    0x1.3fbbbbbbbbbbcp+1, /* [19] 1199/480 */
-    -0x1.1888888888889p+1, /* [20] -263/120 */
-    -0x1.5dddddddddddep+1, /* [21] -41/15 */
-    0x1.6666666666666p+2, /* [22] 28/5 */
-    0x1.999999999999ap+0, /* [23] 8/5 */
-    -0x1.999999999999ap+2, /* [24] -32/5 */
+    0x1.1111111111111p-4, /* [6] 1/15 */
+    -0x1.999999999999ap+1, /* [7] -16/5 */
+    0x0p+0, /* [8] 0 */
+    0x1.5555555555555p+3, /* [9] 32/3 */
+    -0x1p+4, /* [10] -16 */
+    0x1.3333333333333p+3, /* [11] 48/5 */
+    -0x1.1111111111111p+1, /* [12] -32/15 */
+    -0x1p+0, /* [13] -1 */
+    0x1.5555555555555p+3, /* [14] 32/3 */
+    0x0p+0, /* [15] 0 */
+    -0x1.3333333333333p+5, /* [16] -192/5 */
+    0x1p+5, /* [17] 32 */
+    -0x1.1111111111111p-4, /* [18] -1/15 */
+    0x0p+0, /* [19] 0 */
+    0x0p+0, /* [20] 0 */
+    0x1.5555555555555p+4, /* [21] 64/3 */
+    -0x1.8p+5, /* [22] -48 */
+    0x1.3333333333333p+5, /* [23] 192/5 */
+    -0x1.5555555555555p+3, /* [24] -32/3 */
     0x1p+0, /* [25] 1 */
-    -0x1.1111111111111p+0, /* [26] -16/15 */
-    -0x1.1111111111111p+1, /* [27] -32/15 */
-    0x1p+0, /* [28] 1 */
-    -0x1.5555555555555p+3, /* [29] -32/3 */
-    0x0p+0, /* [30] 0 */
-    0x1.3333333333333p+5, /* [31] 192/5 */
-    -0x1p+5, /* [32] -32 */
-    -0x1.4dccccccccccdp+1, /* [33] -1669/640 */
-    -0x1.3777777777777p+0, /* [34] -73/60 */
-    0x1.0333333333333p+4, /* [35] 81/5 */
-    -0x1.3333333333333p+3, /* [36] -48/5 */
-    -0x1p+5, /* [37] -32 */
-    -0x1p+0, /* [38] -1 */
-    0x1.1111111111111p+0, /* [39] 16/15 */
-    0x1.1111111111111p+2, /* [40] 64/15 */
-    0x1.5555555555555p+3, /* [41] 32/3 */
-    -0x1p+0, /* [42] -1 */
-    0x1.3333333333333p+6, /* [43] 384/5 */
-    -0x1.8p+6, /* [44] -96 */
-    0x1.6f33333333333p+2, /* [45] 459/80 */
-    0x1.119999999999ap+4, /* [46] 171/10 */
-    -0x1.f333333333333p+4, /* [47] -156/5 */
-    -0x1.8p+6, /* [48] -96 */
-    0x1.8p+1, /* [49] 3 */
-    -0x1.999999999999ap+1, /* [50] -16/5 */
-    -0x1.3333333333333p+3, /* [51] -48/5 */
-    -0x1.3333333333333p+4, /* [52] -96/5 */
-    -0x1p+5, /* [53] -32 */
-    0x1.8p+1, /* [54] 3 */
-    -0x1.8p+6, /* [55] -96 */
-    -0x1.ep+3, /* [56] -15 */
-    0x1p+4, /* [57] 16 */
-    0x1p+5, /* [58] 32 */
-    -0x1.ep+3, /* [59] -15 */
-    0x1.8p+6, /* [60] 96 */
-    0x1.a4p+6, /* [61] 105 */
-    -0x1.cp+6, /* [62] -112 */
-    -0x1.cp+6, /* [63] -112 */
-    0x1p+5, /* [64] 32 */
-    0x1.a4p+6, /* [65] 105 */
+    -0x1.3fbbbbbbbbbbcp+1, /* [26] -1199/480 */
+    0x1.1888888888889p+1, /* [27] 263/120 */
+    0x1.5dddddddddddep+1, /* [28] 41/15 */
+    -0x1.6666666666666p+2, /* [29] -28/5 */
+    -0x1.999999999999ap+0, /* [30] -8/5 */
+    0x1.999999999999ap+2, /* [31] 32/5 */
+    -0x1p+0, /* [32] -1 */
+    0x1.1111111111111p+0, /* [33] 16/15 */
+    0x1.1111111111111p+1, /* [34] 32/15 */
+    -0x1p+0, /* [35] -1 */
+    0x1.1888888888889p+3, /* [36] 263/30 */
+    -0x1.a666666666666p+3, /* [37] -66/5 */
+    -0x1.ccccccccccccdp+3, /* [38] -72/5 */
+    0x1p+5, /* [39] 32 */
+    0x1p+0, /* [40] 1 */
+    -0x1.1111111111111p+0, /* [41] -16/15 */
+    -0x1.1111111111111p+2, /* [42] -64/15 */
+    -0x1.5555555555555p+3, /* [43] -32/3 */
+    0x1p+0, /* [44] 1 */
+    0x1.6666666666666p+1, /* [45] 14/5 */
+    0x0p+0, /* [46] 0 */
+    -0x1.5555555555555p+2, /* [47] -16/3 */
+    0x0p+0, /* [48] 0 */
+    0x1.3333333333333p+3, /* [49] 48/5 */
+    -0x1.999999999999ap+2, /* [50] -32/5 */
+    -0x1.1111111111111p-4, /* [51] -1/15 */
+    0x1.999999999999ap+1, /* [52] 16/5 */
+    0x0p+0, /* [53] 0 */
+    -0x1.5555555555555p+3, /* [54] -32/3 */
+    0x1p+4, /* [55] 16 */
+    -0x1.3333333333333p+3, /* [56] -48/5 */
+    0x1.1111111111111p+1, /* [57] 32/15 */
+    0x1p+0, /* [58] 1 */
+    -0x1.5555555555555p+3, /* [59] -32/3 */
+    0x0p+0, /* [60] 0 */
+    0x1.3333333333333p+5, /* [61] 192/5 */
+    -0x1p+5, /* [62] -32 */
+    0x1.1111111111111p-4, /* [63] 1/15 */
+    0x0p+0, /* [64] 0 */
+    0x0p+0, /* [65] 0 */
+    -0x1.5555555555555p+4, /* [66] -64/3 */
+    0x1.8p+5, /* [67] 48 */
+    -0x1.3333333333333p+5, /* [68] -192/5 */
+    0x1.5555555555555p+3, /* [69] 32/3 */
+    -0x1p+0, /* [70] -1 */
+    0x1.3333333333333p+6, /* [71] 384/5 */
+    -0x1.8p+6, /* [72] -96 */
+    -0x1.999999999999ap-3, /* [73] -1/5 */
+    0x0p+0, /* [74] 0 */
+    0x0p+0, /* [75] 0 */
+    0x0p+0, /* [76] 0 */
+    0x1.8p+5, /* [77] 48 */
+    -0x1.3333333333333p+6, /* [78] -384/5 */
+    0x1p+5, /* [79] 32 */
+    0x1.8p+1, /* [80] 3 */
+    -0x1.8p+6, /* [81] -96 */
+    0x1p+0, /* [82] 1 */
+    0x0p+0, /* [83] 0 */
+    -0x1.8p+5, /* [84] -48 */
+    0x1p+5, /* [85] 32 */
+    -0x1.ep+3, /* [86] -15 */
+    0x1.8p+6, /* [87] 96 */
+    -0x1.cp+2, /* [88] -7 */
+    0x0p+0, /* [89] 0 */
+    0x1.2p+7, /* [90] 144 */
+    -0x1p+5, /* [91] -32 */
+    0x1.a4p+6, /* [92] 105 */
 };
 
 /* W_pot(u) = 4 pi phi_1(u): H phi/m (-1/u outside) */
 static inline double mollify_swift_grav_cubic_spline_D3_pot(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 9, 1, r * r) * mollify_c_ipow(r, -1);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 13, 1, r * r) * mollify_c_ipow(r, -1);
     {
-    const double e = 1 - q;
-    /* [0, 1/2), Taylor polynomial about 1/4 */
+    /* [0, 1/2) */
     if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 0, 6, (q - 0x1p-2));
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 0, 6, q);
     /* [1/2, 1) */
     else
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 6, 1, q * q) * mollify_c_ipow(q, -1)
-        + mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 7, 2, q) * mollify_c_ipow(q, -1) * mollify_c_ipow(e, 5);
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 6, 7, q) * mollify_c_ipow(q, -1);
     }
     return y;
 }
@@ -180,16 +208,50 @@ static inline double mollify_swift_grav_cubic_spline_D3_pot(double q) {
 static inline double mollify_swift_grav_cubic_spline_D3_force(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 18, 1, r * r) * mollify_c_ipow(r, -3);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 25, 1, r * r) * mollify_c_ipow(r, -3);
+    {
+    /* [0, 1/2) */
+    if (q < 0x1p-1)
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 14, 4, q);
+    /* [1/2, 1) */
+    else
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 18, 7, q) * mollify_c_ipow(q, -3);
+    }
+    return y;
+}
+
+/* W_pot(u), planned for a double result */
+static inline double mollify_swift_grav_cubic_spline_D3_pot_double(double q) {
+    double y;
+    const double r = q;
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 35, 1, r * r) * mollify_c_ipow(r, -1);
     {
     const double e = 1 - q;
     /* [0, 1/2), Taylor polynomial about 1/4 */
     if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 10, 4, (q - 0x1p-2));
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 26, 6, (q - 0x1p-2));
     /* [1/2, 1) */
     else
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 14, 1, q * q) * mollify_c_ipow(q, -3)
-        + mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 15, 3, q) * mollify_c_ipow(q, -3) * mollify_c_ipow(e, 4);
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 32, 1, q * q) * mollify_c_ipow(q, -1)
+        + mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 33, 2, q) * mollify_c_ipow(q, -1) * mollify_c_ipow(e, 5);
+    }
+    return y;
+}
+
+/* W_f(u), planned for a double result */
+static inline double mollify_swift_grav_cubic_spline_D3_force_double(double q) {
+    double y;
+    const double r = q;
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 44, 1, r * r) * mollify_c_ipow(r, -3);
+    {
+    const double e = 1 - q;
+    /* [0, 1/2), Taylor polynomial about 1/4 */
+    if (q < 0x1p-1)
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 36, 4, (q - 0x1p-2));
+    /* [1/2, 1) */
+    else
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 40, 1, q * q) * mollify_c_ipow(q, -3)
+        + mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 41, 3, q) * mollify_c_ipow(q, -3) * mollify_c_ipow(e, 4);
     }
     return y;
 }
@@ -198,16 +260,14 @@ static inline double mollify_swift_grav_cubic_spline_D3_force(double q) {
 static inline double mollify_swift_grav_cubic_spline_D3_dsoft1(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 28, 1, r * r) * mollify_c_ipow(r, -1);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 58, 1, r * r) * mollify_c_ipow(r, -1);
     {
-    const double e = 1 - q;
-    /* [0, 1/2), Taylor polynomial about 1/4 */
+    /* [0, 1/2) */
     if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 19, 6, (q - 0x1p-2));
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 45, 6, q);
     /* [1/2, 1) */
     else
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 25, 1, q * q) * mollify_c_ipow(q, -1)
-        + mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 26, 2, q) * mollify_c_ipow(q, -1) * mollify_c_ipow(e, 5);
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 51, 7, q) * mollify_c_ipow(q, -1);
     }
     return y;
 }
@@ -216,19 +276,14 @@ static inline double mollify_swift_grav_cubic_spline_D3_dsoft1(double q) {
 static inline double mollify_swift_grav_cubic_spline_D3_dsoft2(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 42, 1, r * r) * mollify_c_ipow(r, -2);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 70, 1, r * r) * mollify_c_ipow(r, -2);
     {
-    const double e = 1 - q;
-    /* [0, 1/4) */
-    if (q < 0x1p-2)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 29, 4, q) * q;
-    /* [1/4, 1/2), Taylor polynomial about 3/8 */
-    else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 33, 5, (q - 0x1.8p-2));
+    /* [0, 1/2) */
+    if (q < 0x1p-1)
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 59, 4, q) * q;
     /* [1/2, 1) */
     else
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 38, 1, q * q) * mollify_c_ipow(q, -2)
-        + mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 39, 3, q) * mollify_c_ipow(q, -2) * mollify_c_ipow(e, 4);
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 63, 7, q) * mollify_c_ipow(q, -2);
     }
     return y;
 }
@@ -237,19 +292,14 @@ static inline double mollify_swift_grav_cubic_spline_D3_dsoft2(double q) {
 static inline double mollify_swift_grav_cubic_spline_D3_dsoft3(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 54, 1, r * r) * mollify_c_ipow(r, -3);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 80, 1, r * r) * mollify_c_ipow(r, -3);
     {
-    const double e = 1 - q;
-    /* [0, 1/4) */
-    if (q < 0x1p-2)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 43, 2, q) * mollify_c_ipow(q, 2);
-    /* [1/4, 1/2), Taylor polynomial about 3/8 */
-    else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 45, 4, (q - 0x1.8p-2));
+    /* [0, 1/2) */
+    if (q < 0x1p-1)
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 71, 2, q) * mollify_c_ipow(q, 2);
     /* [1/2, 1) */
     else
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 49, 1, q * q) * mollify_c_ipow(q, -3)
-        + mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 50, 4, q) * mollify_c_ipow(q, -3) * mollify_c_ipow(e, 3);
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 73, 7, q) * mollify_c_ipow(q, -3);
     }
     return y;
 }
@@ -258,16 +308,14 @@ static inline double mollify_swift_grav_cubic_spline_D3_dsoft3(double q) {
 static inline double mollify_swift_grav_cubic_spline_D3_dsoft4(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 59, 1, r * r) * mollify_c_ipow(r, -4);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 86, 1, r * r) * mollify_c_ipow(r, -4);
     {
-    const double e = 1 - q;
     /* [0, 1/2) */
     if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 55, 1, q * q) * mollify_c_ipow(q, 2);
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 81, 1, q * q) * mollify_c_ipow(q, 2);
     /* [1/2, 1) */
     else
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 56, 1, q * q) * mollify_c_ipow(q, -4)
-        + mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 57, 2, q * q) * mollify_c_ipow(q, -4) * mollify_c_ipow((e * (0x1p+0 + q)), 2);
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 82, 4, q * q) * mollify_c_ipow(q, -4);
     }
     return y;
 }
@@ -276,24 +324,22 @@ static inline double mollify_swift_grav_cubic_spline_D3_dsoft4(double q) {
 static inline double mollify_swift_grav_cubic_spline_D3_dsoft5(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 65, 1, r * r) * mollify_c_ipow(r, -5);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 92, 1, r * r) * mollify_c_ipow(r, -5);
     {
-    const double e = 1 - q;
     /* [0, 1/2) */
     if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 60, 1, q * q) * q;
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 87, 1, q * q) * q;
     /* [1/2, 1) */
     else
-        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 61, 1, q * q) * mollify_c_ipow(q, -5)
-        + mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 62, 3, q * q) * mollify_c_ipow(q, -5) * (e * (0x1p+0 + q));
+        y = mollify_c_horner(mollify_swift_grav_cubic_spline_D3_c + 88, 4, q * q) * mollify_c_ipow(q, -5);
     }
     return y;
 }
 
 static inline float kernel_grav_pot_eval(const float u) { return (float)mollify_swift_grav_cubic_spline_D3_pot((double)u); }
 static inline float kernel_grav_force_eval(const float u) { return (float)mollify_swift_grav_cubic_spline_D3_force((double)u); }
-static inline void kernel_grav_eval_pot_double(double u, double *const W) { *W = mollify_swift_grav_cubic_spline_D3_pot(u); }
-static inline void kernel_grav_eval_force_double(double u, double *const W) { *W = mollify_swift_grav_cubic_spline_D3_force(u); }
+static inline void kernel_grav_eval_pot_double(double u, double *const W) { *W = mollify_swift_grav_cubic_spline_D3_pot_double(u); }
+static inline void kernel_grav_eval_force_double(double u, double *const W) { *W = mollify_swift_grav_cubic_spline_D3_force_double(u); }
 static inline float D_soft_1(const float u) { return (float)mollify_swift_grav_cubic_spline_D3_dsoft1((double)u); }
 static inline float D_soft_2(const float u) { return (float)mollify_swift_grav_cubic_spline_D3_dsoft2((double)u); }
 static inline float D_soft_3(const float u) { return (float)mollify_swift_grav_cubic_spline_D3_dsoft3((double)u); }

@@ -24,7 +24,15 @@
  *   hence the factored form here.
  * Signs: W >= 0 and dW/du <= 0 on the whole support (proved exactly: Bernstein coefficients of every piece), so SWIFT's clamps max(W, 0), min(dW, 0) are kept and change nothing.
  * Not given: kernel_degree, kernel_ivals, kernel_coeffs (SWIFT's table layout, read only inside its stock
- * kernel_hydro.h), potential_dh (stock: Wendland C2 only).
+ * kernel_hydro.h).
+ * potential_dh(u, h_inv): d phi/dh of the softened potential phi = m W_pot(r/H)/H of this kernel's
+ * kernel_gravity.h, per unit mass, with H = kernel_gamma h (SWIFT's adaptive softening sets eps = kernel_gamma h):
+ * -(W_pot(x) + x W_pot'(x)) / (kernel_gamma h^2), x = u/kernel_gamma, 0 for x >= 1 (Price & Monaghan 2007's
+ * d phi/dh, their eq. 26 as SWIFT cites it), in double, rounded once to float. SWIFT's stock potential_dh
+ * (Wendland C2 only) is (d phi/dh - 3/(kernel_gamma h^2))/4: the constant term -W_pot(0)/(kernel_gamma h^2)
+ * and a factor 4 missing (mollify-gen errata --codes). Adaptive softening needs this file's kernel_gravity.h
+ * beside it (the same kernel); SWIFT's configure and adaptive_softening.h accept it only with
+ * --with-kernel=wendland-C2, whose macro these files ignore.
  * The SIMD functions kernel_*_vec (WITH_VECTORIZATION: SWIFT's GADGET-2 SPH scheme's hand-vectorised
  * loops call them) take every lane through the scalar function, so each lane is its value bit for bit;
  * GCC vectorises that loop under SWIFT's flags (-O3 -ffast-math). SWIFT's stock file has them for
@@ -118,7 +126,7 @@ static inline double mollify_c_arcsin(double q, double e) { return atan2(q, moll
 #endif
 
 /* The coefficients of W_1 and W_1', in order (function, piece, term, power). */
-static const double mollify_swift_cubic_spline_D3_c[8] = {
+static const double mollify_swift_cubic_spline_D3_c[16] = {
     0x1.45f306dc9c883p+1, /* [0] 8 * pi^-1 */
     0x0p+0, /* [1] 0 */
     -0x1.e8ec8a4aeacc4p+3, /* [2] -48 * pi^-1 */
@@ -127,6 +135,14 @@ static const double mollify_swift_cubic_spline_D3_c[8] = {
     -0x1.e8ec8a4aeacc4p+4, /* [5] -96 * pi^-1 */
     0x1.6eb167b830193p+5, /* [6] 144 * pi^-1 */
     -0x1.e8ec8a4aeacc4p+3, /* [7] -48 * pi^-1 */
+    0x1.6666666666666p+1, /* [8] 14/5 */
+    0x0p+0, /* [9] 0 */
+    -0x1p+4, /* [10] -16 */
+    0x0p+0, /* [11] 0 */
+    0x1.8p+5, /* [12] 48 */
+    -0x1.3333333333333p+5, /* [13] -192/5 */
+    0x1.999999999999ap+1, /* [14] 16/5 */
+    0x1.999999999999ap+3, /* [15] 64/5 */
 };
 
 /* W_1(x) = C w(x), mollify's kernel on support 1 */
@@ -161,6 +177,22 @@ static inline double mollify_swift_cubic_spline_D3_dW1(double q) {
     return y;
 }
 
+/* -(W_pot(x) + x W_pot'(x)), W_pot = 4 pi phi_1 (kernel_gravity.h); 0 for x >= 1 */
+static inline double mollify_swift_cubic_spline_D3_dphidh(double q) {
+    double y;
+    if (q > 1) return 0x0p+0;
+    {
+    const double e = 1 - q;
+    /* [0, 1/2) */
+    if (q < 0x1p-1)
+        y = mollify_c_horner(mollify_swift_cubic_spline_D3_c + 8, 6, q);
+    /* [1/2, 1) */
+    else
+        y = mollify_c_horner(mollify_swift_cubic_spline_D3_c + 14, 2, q) * mollify_c_ipow(e, 4);
+    }
+    return y;
+}
+
 /* W and dW/du at u = r/h (times h^-D and h^-(D+1) by the caller); 0 for u >= gamma */
 static inline void kernel_deval(float u, float *restrict W, float *restrict dW_dx) {
     const double x = (double)u * mollify_swift_cubic_spline_D3_gamma_inv;
@@ -184,6 +216,12 @@ static inline void kernel_eval_dWdx(float u, float *restrict dW_dx) {
 static inline void kernel_eval_double(double u, double *restrict W) {
     const double w = mollify_swift_cubic_spline_D3_gamma_inv_dim * mollify_swift_cubic_spline_D3_W1(u * mollify_swift_cubic_spline_D3_gamma_inv);
     *W = fmax(w, 0.);
+}
+
+/* d phi/dh at u = r/h per unit mass, phi = W_pot(r/H)/H (kernel_gravity.h), H = kernel_gamma h; 0 for u >= gamma */
+static inline float potential_dh(const float u, const float h_inv) {
+    const double x = (double)u * mollify_swift_cubic_spline_D3_gamma_inv;
+    return (float)(mollify_swift_cubic_spline_D3_dphidh(x) * mollify_swift_cubic_spline_D3_gamma_inv * ((double)h_inv * (double)h_inv));
 }
 
 #if defined(WITH_VECTORIZATION) || defined(WITH_OLD_VECTORIZATION)

@@ -12,7 +12,10 @@
  * H = kernel_gravity_softening_plummer_equivalent * eps: the softened potential at r = 0,
  * -m W_pot(0)/H, equal to Plummer's -m/eps (SWIFT's rule for Wendland C2: H = 3 eps), so the factor
  * is -W_pot(0) = 3 exactly.
- * Evaluated in double as mollify's Precision::fast (factored at the edge), rounded once to float.
+ * Evaluated in double and rounded once to float: each piece one polynomial (factored at the edge where it
+ * vanishes there) where that is within 2^-30 of max(|f|, |u f'|), as a float result needs, else as mollify's
+ * Precision::fast (Taylor pieces); short and branch-light, so SWIFT's gravity pair loop vectorises around
+ * them. kernel_grav_eval_*_double (SWIFT's force checks) as Precision::fast, not rounded to float.
  * Each constant is correctly rounded, its exact value beside it.
  */
 #ifndef SWIFT_KERNEL_GRAVITY_H
@@ -83,143 +86,95 @@ static inline double mollify_c_arcsin(double q, double e) { return atan2(q, moll
 #endif
 
 /* The coefficients of every function, in order (function, piece, term, power). */
-static const double mollify_swift_grav_wendland_k_1_D3_c[120] = {
-    -0x1.4f72p+1, /* [0] -42937/16384 */
-    0x1.5368p+1, /* [1] 10861/4096 */
-    0x1.576p+1, /* [2] 2747/1024 */
-    -0x1.f1cp+2, /* [3] -1991/256 */
-    0x1.94p+0, /* [4] 101/64 */
-    0x1.2ep+3, /* [5] 151/16 */
-    -0x1.38p+3, /* [6] -39/4 */
+static const double mollify_swift_grav_wendland_k_1_D3_c[78] = {
+    -0x1.8p+1, /* [0] -3 */
+    0x0p+0, /* [1] 0 */
+    0x1.cp+2, /* [2] 7 */
+    0x0p+0, /* [3] 0 */
+    -0x1.5p+4, /* [4] -21 */
+    0x1.cp+4, /* [5] 28 */
+    -0x1.ep+3, /* [6] -15 */
     0x1.8p+1, /* [7] 3 */
     -0x1p+0, /* [8] -1 */
-    0x1p+0, /* [9] 1 */
-    0x1.8p+1, /* [10] 3 */
-    0x1.8p+1, /* [11] 3 */
-    -0x1p+0, /* [12] -1 */
-    0x1.9e114p+3, /* [13] 424005/32768 */
-    -0x1.e3aep+3, /* [14] -61911/4096 */
-    -0x1.3c38p+5, /* [15] -10119/256 */
-    0x1.892p+6, /* [16] 3145/32 */
-    -0x1.338p+6, /* [17] -615/8 */
-    0x1.5p+4, /* [18] 21 */
-    0x1.fc8f8p+2, /* [19] 260383/32768 */
-    -0x1.4d87p+4, /* [20] -85383/4096 */
-    0x1.146p+3, /* [21] 2211/256 */
-    0x1.144p+5, /* [22] 1105/32 */
-    -0x1.95p+5, /* [23] -405/8 */
-    0x1.5p+4, /* [24] 21 */
+    0x1.cp+3, /* [9] 14 */
+    0x0p+0, /* [10] 0 */
+    -0x1.5p+6, /* [11] -84 */
+    0x1.18p+7, /* [12] 140 */
+    -0x1.68p+6, /* [13] -90 */
+    0x1.5p+4, /* [14] 21 */
+    0x1p+0, /* [15] 1 */
+    -0x1.4f72p+1, /* [16] -42937/16384 */
+    0x1.5368p+1, /* [17] 10861/4096 */
+    0x1.576p+1, /* [18] 2747/1024 */
+    -0x1.f1cp+2, /* [19] -1991/256 */
+    0x1.94p+0, /* [20] 101/64 */
+    0x1.2ep+3, /* [21] 151/16 */
+    -0x1.38p+3, /* [22] -39/4 */
+    0x1.8p+1, /* [23] 3 */
+    -0x1p+0, /* [24] -1 */
     0x1p+0, /* [25] 1 */
-    -0x1p+0, /* [26] -1 */
-    -0x1.4p+2, /* [27] -5 */
-    -0x1.ep+3, /* [28] -15 */
-    -0x1.5p+4, /* [29] -21 */
-    0x1p+0, /* [30] 1 */
-    0x1.4f72p+1, /* [31] 42937/16384 */
-    -0x1.5368p+1, /* [32] -10861/4096 */
-    -0x1.576p+1, /* [33] -2747/1024 */
-    0x1.f1cp+2, /* [34] 1991/256 */
-    -0x1.94p+0, /* [35] -101/64 */
-    -0x1.2ep+3, /* [36] -151/16 */
-    0x1.38p+3, /* [37] 39/4 */
-    -0x1.8p+1, /* [38] -3 */
-    0x1p+0, /* [39] 1 */
-    -0x1p+0, /* [40] -1 */
-    -0x1.8p+1, /* [41] -3 */
-    -0x1.8p+1, /* [42] -3 */
-    0x1p+0, /* [43] 1 */
-    -0x1.cp+3, /* [44] -14 */
-    0x0p+0, /* [45] 0 */
-    0x1.5p+6, /* [46] 84 */
-    -0x1.18p+7, /* [47] -140 */
-    0x1.68p+6, /* [48] 90 */
-    -0x1.5p+4, /* [49] -21 */
-    -0x1.1cb8768p+1, /* [50] -37318893/16777216 */
-    -0x1.09c2f4p+3, /* [51] -4354237/524288 */
-    0x1.74315p+4, /* [52] 1524501/65536 */
-    0x1.f7dp+2, /* [53] 8061/1024 */
-    -0x1.0accp+6, /* [54] -17075/256 */
-    0x1.098p+6, /* [55] 531/8 */
-    -0x1.5p+4, /* [56] -21 */
-    -0x1.7d6bap+1, /* [57] -781149/262144 */
-    -0x1.08ap-3, /* [58] -2117/16384 */
-    0x1.19b5p+4, /* [59] 72117/4096 */
-    -0x1.596p+4, /* [60] -2763/128 */
-    -0x1.f18p+3, /* [61] -995/64 */
-    0x1.56p+5, /* [62] 171/4 */
-    -0x1.5p+4, /* [63] -21 */
-    -0x1p+0, /* [64] -1 */
-    0x1p+0, /* [65] 1 */
-    0x1.4p+2, /* [66] 5 */
-    0x1.ep+3, /* [67] 15 */
-    0x1.5p+4, /* [68] 21 */
-    -0x1p+0, /* [69] -1 */
-    0x1.5p+7, /* [70] 168 */
-    -0x1.a4p+8, /* [71] -420 */
-    0x1.68p+8, /* [72] 360 */
-    -0x1.a4p+6, /* [73] -105 */
-    0x1.c776a8p+1, /* [74] 3731157/1048576 */
-    0x1.b8be3p+4, /* [75] 1805283/65536 */
-    0x1.884p-1, /* [76] 1569/2048 */
-    -0x1.75d4p+7, /* [77] -23925/128 */
-    0x1.059p+8, /* [78] 4185/16 */
-    -0x1.a4p+6, /* [79] -105 */
-    0x1.f44a8p+2, /* [80] 256149/32768 */
-    0x1.cbc6p+3, /* [81] 58851/4096 */
-    -0x1.c0f8p+5, /* [82] -14367/256 */
-    -0x1.ba8p+4, /* [83] -885/32 */
-    0x1.464p+7, /* [84] 1305/8 */
-    -0x1.a4p+6, /* [85] -105 */
-    0x1.935p+2, /* [86] 6453/1024 */
-    -0x1.ebap+3, /* [87] -3933/256 */
-    -0x1.3ep+2, /* [88] -159/32 */
-    0x1.158p+6, /* [89] 555/8 */
-    -0x1.0ep+5, /* [90] -135/4 */
-    -0x1.a4p+6, /* [91] -105 */
-    0x1.8p+1, /* [92] 3 */
-    -0x1.a4p+8, /* [93] -420 */
-    0x1.68p+9, /* [94] 720 */
-    -0x1.3bp+8, /* [95] -315 */
-    -0x1.b52bp+4, /* [96] -111915/4096 */
-    -0x1.36c8p+6, /* [97] -9945/128 */
-    0x1.f0ep+6, /* [98] 3975/32 */
-    0x1.efp+7, /* [99] 495/2 */
-    -0x1.3bp+8, /* [100] -315 */
-    -0x1.0158p+5, /* [101] -8235/256 */
-    0x1.ab8p+5, /* [102] 855/16 */
-    0x1.11cp+7, /* [103] 1095/8 */
-    -0x1.c2p+7, /* [104] -225 */
-    -0x1.3bp+8, /* [105] -315 */
-    -0x1.ep+3, /* [106] -15 */
-    0x1.a4p+8, /* [107] 420 */
-    -0x1.3bp+8, /* [108] -315 */
-    0x1.6c38p+7, /* [109] 11655/64 */
-    -0x1.be4p+6, /* [110] -1785/16 */
-    -0x1.626p+9, /* [111] -2835/4 */
-    -0x1.3bp+8, /* [112] -315 */
-    0x1.a4p+6, /* [113] 105 */
-    -0x1.3bp+10, /* [114] -1260 */
-    0x1.3bp+8, /* [115] 315 */
-    -0x1.0eb4p+10, /* [116] -17325/16 */
-    0x1.d88p+8, /* [117] 945/2 */
-    0x1.3bp+8, /* [118] 315 */
-    -0x1.d88p+9, /* [119] -945 */
+    0x1.8p+1, /* [26] 3 */
+    0x1.8p+1, /* [27] 3 */
+    -0x1p+0, /* [28] -1 */
+    0x1.9e114p+3, /* [29] 424005/32768 */
+    -0x1.e3aep+3, /* [30] -61911/4096 */
+    -0x1.3c38p+5, /* [31] -10119/256 */
+    0x1.892p+6, /* [32] 3145/32 */
+    -0x1.338p+6, /* [33] -615/8 */
+    0x1.5p+4, /* [34] 21 */
+    0x1.fc8f8p+2, /* [35] 260383/32768 */
+    -0x1.4d87p+4, /* [36] -85383/4096 */
+    0x1.146p+3, /* [37] 2211/256 */
+    0x1.144p+5, /* [38] 1105/32 */
+    -0x1.95p+5, /* [39] -405/8 */
+    0x1.5p+4, /* [40] 21 */
+    0x1p+0, /* [41] 1 */
+    -0x1p+0, /* [42] -1 */
+    -0x1.4p+2, /* [43] -5 */
+    -0x1.ep+3, /* [44] -15 */
+    -0x1.5p+4, /* [45] -21 */
+    0x1p+0, /* [46] 1 */
+    0x1.8p+1, /* [47] 3 */
+    0x0p+0, /* [48] 0 */
+    -0x1.cp+2, /* [49] -7 */
+    0x0p+0, /* [50] 0 */
+    0x1.5p+4, /* [51] 21 */
+    -0x1.cp+4, /* [52] -28 */
+    0x1.ep+3, /* [53] 15 */
+    -0x1.8p+1, /* [54] -3 */
+    0x1p+0, /* [55] 1 */
+    -0x1.cp+3, /* [56] -14 */
+    0x0p+0, /* [57] 0 */
+    0x1.5p+6, /* [58] 84 */
+    -0x1.18p+7, /* [59] -140 */
+    0x1.68p+6, /* [60] 90 */
+    -0x1.5p+4, /* [61] -21 */
+    -0x1p+0, /* [62] -1 */
+    0x1.5p+7, /* [63] 168 */
+    -0x1.a4p+8, /* [64] -420 */
+    0x1.68p+8, /* [65] 360 */
+    -0x1.a4p+6, /* [66] -105 */
+    0x1.8p+1, /* [67] 3 */
+    -0x1.a4p+8, /* [68] -420 */
+    0x1.68p+9, /* [69] 720 */
+    -0x1.3bp+8, /* [70] -315 */
+    -0x1.ep+3, /* [71] -15 */
+    0x1.a4p+8, /* [72] 420 */
+    -0x1.3bp+8, /* [73] -315 */
+    0x1.a4p+6, /* [74] 105 */
+    -0x1.3bp+10, /* [75] -1260 */
+    0x1.3bp+8, /* [76] 315 */
+    -0x1.d88p+9, /* [77] -945 */
 };
 
 /* W_pot(u) = 4 pi phi_1(u): H phi/m (-1/u outside) */
 static inline double mollify_swift_grav_wendland_k_1_D3_pot(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 12, 1, r * r) * mollify_c_ipow(r, -1);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 8, 1, r * r) * mollify_c_ipow(r, -1);
     {
-    const double e = 1 - q;
-    /* [0, 1/2), Taylor polynomial about 1/4 */
-    if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 0, 8, (q - 0x1p-2));
-    /* [1/2, 1) */
-    else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 8, 1, q * q) * mollify_c_ipow(q, -1)
-        + mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 9, 3, q) * mollify_c_ipow(q, -1) * mollify_c_ipow(e, 6);
+    /* [0, 1) */
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 0, 8, q);
     }
     return y;
 }
@@ -228,19 +183,49 @@ static inline double mollify_swift_grav_wendland_k_1_D3_pot(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_force(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 30, 1, r * r) * mollify_c_ipow(r, -3);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 15, 1, r * r) * mollify_c_ipow(r, -3);
+    {
+    /* [0, 1) */
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 9, 6, q);
+    }
+    return y;
+}
+
+/* W_pot(u), planned for a double result */
+static inline double mollify_swift_grav_wendland_k_1_D3_pot_double(double q) {
+    double y;
+    const double r = q;
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 28, 1, r * r) * mollify_c_ipow(r, -1);
+    {
+    const double e = 1 - q;
+    /* [0, 1/2), Taylor polynomial about 1/4 */
+    if (q < 0x1p-1)
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 16, 8, (q - 0x1p-2));
+    /* [1/2, 1) */
+    else
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 24, 1, q * q) * mollify_c_ipow(q, -1)
+        + mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 25, 3, q) * mollify_c_ipow(q, -1) * mollify_c_ipow(e, 6);
+    }
+    return y;
+}
+
+/* W_f(u), planned for a double result */
+static inline double mollify_swift_grav_wendland_k_1_D3_force_double(double q) {
+    double y;
+    const double r = q;
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 46, 1, r * r) * mollify_c_ipow(r, -3);
     {
     const double e = 1 - q;
     /* [0, 1/4), Taylor polynomial about 1/8 */
     if (q < 0x1p-2)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 13, 6, (q - 0x1p-3));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 29, 6, (q - 0x1p-3));
     /* [1/4, 1/2), Taylor polynomial about 3/8 */
     else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 19, 6, (q - 0x1.8p-2));
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 35, 6, (q - 0x1.8p-2));
     /* [1/2, 1) */
     else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 25, 1, q * q) * mollify_c_ipow(q, -3)
-        + mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 26, 4, q) * mollify_c_ipow(q, -3) * mollify_c_ipow(e, 5);
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 41, 1, q * q) * mollify_c_ipow(q, -3)
+        + mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 42, 4, q) * mollify_c_ipow(q, -3) * mollify_c_ipow(e, 5);
     }
     return y;
 }
@@ -249,16 +234,10 @@ static inline double mollify_swift_grav_wendland_k_1_D3_force(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft1(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 43, 1, r * r) * mollify_c_ipow(r, -1);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 55, 1, r * r) * mollify_c_ipow(r, -1);
     {
-    const double e = 1 - q;
-    /* [0, 1/2), Taylor polynomial about 1/4 */
-    if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 31, 8, (q - 0x1p-2));
-    /* [1/2, 1) */
-    else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 39, 1, q * q) * mollify_c_ipow(q, -1)
-        + mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 40, 3, q) * mollify_c_ipow(q, -1) * mollify_c_ipow(e, 6);
+    /* [0, 1) */
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 47, 8, q);
     }
     return y;
 }
@@ -267,22 +246,10 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft1(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft2(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 69, 1, r * r) * mollify_c_ipow(r, -2);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 62, 1, r * r) * mollify_c_ipow(r, -2);
     {
-    const double e = 1 - q;
-    /* [0, 1/8) */
-    if (q < 0x1p-3)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 44, 6, q) * q;
-    /* [1/8, 1/4), Taylor polynomial about 3/16 */
-    else if (q < 0x1p-2)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 50, 7, (q - 0x1.8p-3));
-    /* [1/4, 1/2), Taylor polynomial about 3/8 */
-    else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 57, 7, (q - 0x1.8p-2));
-    /* [1/2, 1) */
-    else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 64, 1, q * q) * mollify_c_ipow(q, -2)
-        + mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 65, 4, q) * mollify_c_ipow(q, -2) * mollify_c_ipow(e, 5);
+    /* [0, 1) */
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 56, 6, q) * q;
     }
     return y;
 }
@@ -291,20 +258,10 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft2(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft3(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 92, 1, r * r) * mollify_c_ipow(r, -3);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 67, 1, r * r) * mollify_c_ipow(r, -3);
     {
-    /* [0, 1/8) */
-    if (q < 0x1p-3)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 70, 4, q) * mollify_c_ipow(q, 2);
-    /* [1/8, 1/4), Taylor polynomial about 3/16 */
-    else if (q < 0x1p-2)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 74, 6, (q - 0x1.8p-3));
-    /* [1/4, 1/2), Taylor polynomial about 3/8 */
-    else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 80, 6, (q - 0x1.8p-2));
-    /* [1/2, 1), Taylor polynomial about 3/4 */
-    else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 86, 6, (q - 0x1.8p-1));
+    /* [0, 1) */
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 63, 4, q) * mollify_c_ipow(q, 2);
     }
     return y;
 }
@@ -313,17 +270,10 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft3(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft4(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 106, 1, r * r) * mollify_c_ipow(r, -4);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 71, 1, r * r) * mollify_c_ipow(r, -4);
     {
-    /* [0, 1/4) */
-    if (q < 0x1p-2)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 93, 3, q) * mollify_c_ipow(q, 2);
-    /* [1/4, 1/2), Taylor polynomial about 3/8 */
-    else if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 96, 5, (q - 0x1.8p-2));
-    /* [1/2, 1), Taylor polynomial about 3/4 */
-    else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 101, 5, (q - 0x1.8p-1));
+    /* [0, 1) */
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 68, 3, q) * mollify_c_ipow(q, 2);
     }
     return y;
 }
@@ -332,14 +282,10 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft4(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft5(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 113, 1, r * r) * mollify_c_ipow(r, -5);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 74, 1, r * r) * mollify_c_ipow(r, -5);
     {
-    /* [0, 1/2) */
-    if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 107, 2, q * q) * q;
-    /* [1/2, 1), Taylor polynomial about 3/4 */
-    else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 109, 4, (q - 0x1.8p-1));
+    /* [0, 1) */
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 72, 2, q * q) * q;
     }
     return y;
 }
@@ -348,22 +294,18 @@ static inline double mollify_swift_grav_wendland_k_1_D3_dsoft5(double q) {
 static inline double mollify_swift_grav_wendland_k_1_D3_dsoft6(double q) {
     double y;
     const double r = q;
-    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 119, 1, r * r) * mollify_c_ipow(r, -6);
+    if (q > 1) return mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 77, 1, r * r) * mollify_c_ipow(r, -6);
     {
-    /* [0, 1/2) */
-    if (q < 0x1p-1)
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 114, 2, q * q);
-    /* [1/2, 1), Taylor polynomial about 3/4 */
-    else
-        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 116, 3, (q - 0x1.8p-1));
+    /* [0, 1) */
+        y = mollify_c_horner(mollify_swift_grav_wendland_k_1_D3_c + 75, 2, q * q);
     }
     return y;
 }
 
 static inline float kernel_grav_pot_eval(const float u) { return (float)mollify_swift_grav_wendland_k_1_D3_pot((double)u); }
 static inline float kernel_grav_force_eval(const float u) { return (float)mollify_swift_grav_wendland_k_1_D3_force((double)u); }
-static inline void kernel_grav_eval_pot_double(double u, double *const W) { *W = mollify_swift_grav_wendland_k_1_D3_pot(u); }
-static inline void kernel_grav_eval_force_double(double u, double *const W) { *W = mollify_swift_grav_wendland_k_1_D3_force(u); }
+static inline void kernel_grav_eval_pot_double(double u, double *const W) { *W = mollify_swift_grav_wendland_k_1_D3_pot_double(u); }
+static inline void kernel_grav_eval_force_double(double u, double *const W) { *W = mollify_swift_grav_wendland_k_1_D3_force_double(u); }
 static inline float D_soft_1(const float u) { return (float)mollify_swift_grav_wendland_k_1_D3_dsoft1((double)u); }
 static inline float D_soft_2(const float u) { return (float)mollify_swift_grav_wendland_k_1_D3_dsoft2((double)u); }
 static inline float D_soft_3(const float u) { return (float)mollify_swift_grav_wendland_k_1_D3_dsoft3((double)u); }

@@ -24,7 +24,15 @@
  *   hence the factored form here.
  * Signs: W >= 0 and dW/du <= 0 on the whole support (proved exactly: Bernstein coefficients of every piece), so SWIFT's clamps max(W, 0), min(dW, 0) are kept and change nothing.
  * Not given: kernel_degree, kernel_ivals, kernel_coeffs (SWIFT's table layout, read only inside its stock
- * kernel_hydro.h), potential_dh (stock: Wendland C2 only).
+ * kernel_hydro.h).
+ * potential_dh(u, h_inv): d phi/dh of the softened potential phi = m W_pot(r/H)/H of this kernel's
+ * kernel_gravity.h, per unit mass, with H = kernel_gamma h (SWIFT's adaptive softening sets eps = kernel_gamma h):
+ * -(W_pot(x) + x W_pot'(x)) / (kernel_gamma h^2), x = u/kernel_gamma, 0 for x >= 1 (Price & Monaghan 2007's
+ * d phi/dh, their eq. 26 as SWIFT cites it), in double, rounded once to float. SWIFT's stock potential_dh
+ * (Wendland C2 only) is (d phi/dh - 3/(kernel_gamma h^2))/4: the constant term -W_pot(0)/(kernel_gamma h^2)
+ * and a factor 4 missing (mollify-gen errata --codes). Adaptive softening needs this file's kernel_gravity.h
+ * beside it (the same kernel); SWIFT's configure and adaptive_softening.h accept it only with
+ * --with-kernel=wendland-C2, whose macro these files ignore.
  * The SIMD functions kernel_*_vec (WITH_VECTORIZATION: SWIFT's GADGET-2 SPH scheme's hand-vectorised
  * loops call them) take every lane through the scalar function, so each lane is its value bit for bit;
  * GCC vectorises that loop under SWIFT's flags (-O3 -ffast-math). SWIFT's stock file has them for
@@ -118,10 +126,13 @@ static inline double mollify_c_arcsin(double q, double e) { return atan2(q, moll
 #endif
 
 /* The coefficients of W_1 and W_1', in order (function, piece, term, power). */
-static const double mollify_swift_wendland_k_1_D3_c[3] = {
+static const double mollify_swift_wendland_k_1_D3_c[6] = {
     0x1.abcef9018d72bp+1, /* [0] 21/2 * pi^-1 */
     0x1.abcef9018d72bp+3, /* [1] 42 * pi^-1 */
     -0x1.0b615ba0f867bp+6, /* [2] -210 * pi^-1 */
+    0x1.8p+1, /* [3] 3 */
+    0x1.ep+3, /* [4] 15 */
+    0x1.8p+4, /* [5] 24 */
 };
 
 /* W_1(x) = C w(x), mollify's kernel on support 1 */
@@ -144,6 +155,18 @@ static inline double mollify_swift_wendland_k_1_D3_dW1(double q) {
     const double e = 1 - q;
     /* [0, 1) */
         y = mollify_c_horner(mollify_swift_wendland_k_1_D3_c + 2, 1, q) * q * mollify_c_ipow(e, 3);
+    }
+    return y;
+}
+
+/* -(W_pot(x) + x W_pot'(x)), W_pot = 4 pi phi_1 (kernel_gravity.h); 0 for x >= 1 */
+static inline double mollify_swift_wendland_k_1_D3_dphidh(double q) {
+    double y;
+    if (q > 1) return 0x0p+0;
+    {
+    const double e = 1 - q;
+    /* [0, 1) */
+        y = mollify_c_horner(mollify_swift_wendland_k_1_D3_c + 3, 3, q) * mollify_c_ipow(e, 5);
     }
     return y;
 }
@@ -171,6 +194,12 @@ static inline void kernel_eval_dWdx(float u, float *restrict dW_dx) {
 static inline void kernel_eval_double(double u, double *restrict W) {
     const double w = mollify_swift_wendland_k_1_D3_gamma_inv_dim * mollify_swift_wendland_k_1_D3_W1(u * mollify_swift_wendland_k_1_D3_gamma_inv);
     *W = fmax(w, 0.);
+}
+
+/* d phi/dh at u = r/h per unit mass, phi = W_pot(r/H)/H (kernel_gravity.h), H = kernel_gamma h; 0 for u >= gamma */
+static inline float potential_dh(const float u, const float h_inv) {
+    const double x = (double)u * mollify_swift_wendland_k_1_D3_gamma_inv;
+    return (float)(mollify_swift_wendland_k_1_D3_dphidh(x) * mollify_swift_wendland_k_1_D3_gamma_inv * ((double)h_inv * (double)h_inv));
 }
 
 #if defined(WITH_VECTORIZATION) || defined(WITH_OLD_VECTORIZATION)
