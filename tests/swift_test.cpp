@@ -509,12 +509,17 @@ void check_values(const fs::path& run, bool flushes, const std::string& spec, co
         const gen::Radial W_pot = *facts.quantities.potential * gen::sphere_measure(3);
         const gen::Radial minus_d = W_pot + W_pot.derivative().times(gen::Laurent::monomial(gen::Q(1), 1));
         const gen::Radial slope = minus_d.derivative();
+        const double gamma_inv_d = static_cast<double>(1 / gamma_hi);  // the file's correctly rounded 1/gamma
         double pworst = 0;
         for (std::size_t j = 0; j < std::size(potential_dh_h_inv); ++j)
             for (std::size_t i = 0; i < uf.size(); ++i) {
                 const float y = pdh[j * uf.size() + i];
                 const unsigned b = bits_at(uf[i]);
-                const Real x = real(static_cast<double>(uf[i]), b) / gamma_hi;
+                // x = u/gamma as the file computes it (one rounding, u times 1/gamma rounded): where u is
+                // within that rounding of gamma, the value at that x (else 0 outside, as W's)
+                const double xd = static_cast<double>(uf[i]) * gamma_inv_d;
+                const Real exact_x = real(static_cast<double>(uf[i]), b) / gamma_hi;
+                const Real x = exact_x >= 1 && xd < 1 ? real(xd, b) : exact_x;
                 const Real hi2 = real(static_cast<double>(potential_dh_h_inv[j]), b) * real(static_cast<double>(potential_dh_h_inv[j]), b);
                 const Real c = -hi2 / gamma_hi;
                 const double e = x >= 1 ? 0.0 : at(minus_d, x, c, b);
