@@ -112,9 +112,14 @@ Exact unit_ball_volume(int dim) { return sphere_measure(dim) * Exact(Q(1, dim));
 // the double plan's Taylor sub-pieces it did not: GCC no longer unswitched
 // the loop on `periodic`, 2x the stock run's time, stop 90).
 // kernel_grav_eval_*_double (SWIFT's force checks) keep the double plan.
+// A combination's potential and force take its terms' (`parts`, w_j f_j times
+// 4 pi), each factored at its own radius, as the runtime's tables do: planned
+// as one merged sum, kernel_grav_eval_*_double of the m = 3 combinations were
+// up to ~1e3 double ulps of max(|f|, |u f'|) off (a by-hand sweep, stop 90).
 std::vector<RoundedPiece> round_or_fail(const Radial& f, bool potential_like, const std::string& what,
-                                        ResultPrecision result = ResultPrecision::float_value) {
-    auto r = rounded_quantity(&f, potential_like, {}, result);
+                                        ResultPrecision result = ResultPrecision::float_value,
+                                        const std::vector<Radial>& parts = {}) {
+    auto r = rounded_quantity(&f, potential_like, parts, result);
     if (!r) fail("internal: --target swift: " + what + " did not round");
     return std::move(*r);
 }
@@ -431,6 +436,7 @@ struct GravityFunction {
     std::string name, meaning;
     Radial f;
     ResultPrecision result = ResultPrecision::float_value;
+    std::vector<Radial> parts{};  // a combination's terms (round_or_fail)
 };
 
 std::string gravity_file(const TargetKernel& tk, const std::string& command) {
@@ -446,11 +452,22 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
     const Syntax s = c_syntax(prefix);
     const Exact four_pi = sphere_measure(3);
 
+    const auto times_four_pi = [&four_pi](std::vector<Radial> parts) {
+        for (Radial& p : parts) p = p * four_pi;
+        return parts;
+    };
+    const std::vector<Radial> pot_parts = times_four_pi(parts_of(facts, static_cast<int>(table::QuantityId::potential)));
+    const std::vector<Radial> force_parts =
+        times_four_pi(parts_of(facts, static_cast<int>(table::QuantityId::dpotential_over_r)));
     std::vector<GravityFunction> fs = {
-        {prefix + "_pot", "W_pot(u) = 4 pi phi_1(u): H phi/m (-1/u outside)", *phi * four_pi},
-        {prefix + "_force", "W_f(u) = 4 pi phi_1'(u)/u = W_pot'/u (1/u^3 outside)", *dphi_r * four_pi},
-        {prefix + "_pot_double", "W_pot(u), planned for a double result", *phi * four_pi, ResultPrecision::double_value},
-        {prefix + "_force_double", "W_f(u), planned for a double result", *dphi_r * four_pi, ResultPrecision::double_value},
+        {prefix + "_pot", "W_pot(u) = 4 pi phi_1(u): H phi/m (-1/u outside)", *phi * four_pi, ResultPrecision::float_value,
+         pot_parts},
+        {prefix + "_force", "W_f(u) = 4 pi phi_1'(u)/u = W_pot'/u (1/u^3 outside)", *dphi_r * four_pi,
+         ResultPrecision::float_value, force_parts},
+        {prefix + "_pot_double", "W_pot(u), planned for a double result", *phi * four_pi, ResultPrecision::double_value,
+         pot_parts},
+        {prefix + "_force_double", "W_f(u), planned for a double result", *dphi_r * four_pi, ResultPrecision::double_value,
+         force_parts},
     };
     for (int n = 1; n <= orders; ++n)
         fs.push_back({prefix + "_dsoft" + std::to_string(n),
@@ -458,7 +475,7 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
                       soft.multipole[static_cast<std::size_t>(n - 1)]});
     std::vector<CodeConstant> constants;
     std::vector<std::vector<RoundedPiece>> rounded;
-    for (const GravityFunction& g : fs) rounded.push_back(round_or_fail(g.f, true, g.name, g.result));
+    for (const GravityFunction& g : fs) rounded.push_back(round_or_fail(g.f, true, g.name, g.result, g.parts));
     std::string functions;
     for (std::size_t i = 0; i < fs.size(); ++i)
         functions += c_unit_function(fs[i].name, fs[i].meaning, code_quantity(fs[i].name, rounded[i], constants), s);
