@@ -1,5 +1,7 @@
 #include "emit_metadata.hpp"
 
+#include "softening.hpp"
+
 #include <cctype>
 
 namespace mollify::gen {
@@ -13,6 +15,15 @@ KernelFacts kernel_facts(const CatalogueEntry& e) {
     for (const ComboTerm& t : k.terms) k.term_quantities.push_back(derive_quantities(t.kernel));
     k.certificates = certify(k.kernel, k.quantities);
     return k;
+}
+
+std::vector<std::vector<Radial>> multipole_factor_parts(const KernelFacts& k, int max_order) {
+    std::vector<std::vector<Radial>> parts(static_cast<std::size_t>(max_order) + 1);
+    for (const ComboTerm& t : k.terms) {
+        const std::vector<Radial> e = multipole_factors(t.kernel, max_order);
+        for (std::size_t n = 0; n < parts.size(); ++n) parts[n].push_back(e[n] * Exact(t.weight));
+    }
+    return parts;
 }
 
 const Radial* quantity_of(const KernelFacts& k, int i) {

@@ -144,10 +144,11 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     const std::string plummer_name = "MOLLIFY_G4_" + facts.id + "_PLUMMER";
     if (gravity) {
         const std::vector<Radial> g = gadget_gfactors(k, max_gfactor);
+        const std::vector<std::vector<Radial>> g_parts = multipole_factor_parts(facts, max_gfactor);
         finite = finite_at_origin(g);
         if (finite >= 0) plummer = plummer_equivalent(g[0], facts.spec);  // E_0 = g
         for (std::size_t n = 0; static_cast<int>(n) <= finite; ++n) {
-            rounded.push_back(round_or_fail(g[n], true, {}, "fac" + std::to_string(n)));
+            rounded.push_back(round_or_fail(g[n], true, g_parts[n], "fac" + std::to_string(n)));
             names.push_back({prefix + "_fac" + std::to_string(n), "E_" + std::to_string(n) + "(u), fac" + std::to_string(n) +
                                                                        " at h = 1 (softening.hpp; 1/r-like outside)"});
         }

@@ -469,10 +469,12 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
         {prefix + "_force_double", "W_f(u), planned for a double result", *dphi_r * four_pi, ResultPrecision::double_value,
          force_parts},
     };
+    const std::vector<std::vector<Radial>> dsoft_parts = multipole_factor_parts(facts, orders - 1);
     for (int n = 1; n <= orders; ++n)
         fs.push_back({prefix + "_dsoft" + std::to_string(n),
                       "D_soft_" + std::to_string(n) + "(u) = E_" + std::to_string(n - 1) + "(u) (softening.hpp)",
-                      soft.multipole[static_cast<std::size_t>(n - 1)]});
+                      soft.multipole[static_cast<std::size_t>(n - 1)], ResultPrecision::float_value,
+                      dsoft_parts[static_cast<std::size_t>(n - 1)]});
     std::vector<CodeConstant> constants;
     std::vector<std::vector<RoundedPiece>> rounded;
     for (const GravityFunction& g : fs) rounded.push_back(round_or_fail(g.f, true, g.name, g.result, g.parts));
