@@ -292,10 +292,18 @@ __attribute__((always_inline)) static inline void kernel_eval_dWdx_force_2_vec(v
 // on h; inside it tends to 0 at the edge, the potential being C^1). That is
 // softening.hpp's h-derivative (Phantom's dphidh) times 4 pi. Given where
 // kernel_gravity.h is (3D, a Poisson potential); elsewhere ADAPTIVE_SOFTENING
-// is an #error naming why.
-std::optional<Radial> potential_h_derivative(const KernelFacts& facts) {
+// is an #error naming why. A combination's term by term (`parts`), as its
+// potential's.
+struct PotentialHDerivative {
+    Radial f;
+    std::vector<Radial> parts;
+};
+std::optional<PotentialHDerivative> potential_h_derivative(const KernelFacts& facts) {
     if (facts.kernel.dim != 3 || !quantity_of(facts, static_cast<int>(table::QuantityId::potential))) return std::nullopt;
-    return softening_h_derivative(facts.kernel) * sphere_measure(3);
+    PotentialHDerivative d{softening_h_derivative(facts.kernel) * sphere_measure(3), {}};
+    for (const ComboTerm& t : facts.terms)
+        d.parts.push_back(softening_h_derivative(t.kernel) * (sphere_measure(3) * Exact(t.weight)));
+    return d;
 }
 
 std::string no_potential_dh_reason(const KernelFacts& facts) {
@@ -348,11 +356,14 @@ std::string hydro_file(const TargetKernel& tk, const std::string& command) {
     std::string functions = c_unit_function(prefix + "_W1", "W_1(x) = C w(x), mollify's kernel on support 1",
                                             code_quantity(prefix + "_W1", *W, constants), s);
     functions += c_unit_function(prefix + "_dW1", "W_1'(x) = C w'(x)", code_quantity(prefix + "_dW1", *dW, constants), s);
-    const std::optional<Radial> dphi_dh = potential_h_derivative(facts);
+    const std::optional<PotentialHDerivative> dphi_dh = potential_h_derivative(facts);
     if (dphi_dh)
-        functions += c_unit_function(prefix + "_dphidh", "-(W_pot(x) + x W_pot'(x)), W_pot = 4 pi phi_1 (kernel_gravity.h); 0 for x >= 1",
-                                     code_quantity(prefix + "_dphidh", round_or_fail(*dphi_dh, false, "potential_dh"), constants),
-                                     s);
+        functions += c_unit_function(
+            prefix + "_dphidh", "-(W_pot(x) + x W_pot'(x)), W_pot = 4 pi phi_1 (kernel_gravity.h); 0 for x >= 1",
+            code_quantity(prefix + "_dphidh",
+                          round_or_fail(dphi_dh->f, false, "potential_dh", ResultPrecision::float_value, dphi_dh->parts),
+                          constants),
+            s);
 
     const std::string dim_macro = "HYDRO_DIMENSION_" + std::to_string(d) + "D";
     std::string out = "/*\n" + banner(command, " *");
