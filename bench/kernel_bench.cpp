@@ -20,6 +20,7 @@
 #include <mollify/kernel.hpp>
 #include <mollify/tables/classic/cubic_spline_D3.hpp>
 #include <mollify/tables/classic/poly6_D3.hpp>
+#include <mollify/tables/classic/quintic_spline_D3.hpp>
 #include <mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp>
 #include <mollify/tables/mollifier/M_4_D3.hpp>
 #include <mollify/tables/mollifier/M_9_order_6_D3.hpp>
@@ -752,6 +753,7 @@ int main(int argc, char** argv) {
     register_kernel<tables::cubic_spline_D3>("cubic-spline");
     register_kernel<tables::poly6_D3>("poly6");
     register_forms<tables::wendland_missing_k_1_D3>("wendland-missing:k=1");
+    register_forms<tables::quintic_spline_D3>("quintic-spline");
     register_potentials<tables::mollifier_M_4_D3>("mollifier:M=4");
     register_potentials<tables::wendland_k_2_D3>("wendland:k=2");
     register_scalar<tables::wendland_k_2_D3>("wendland:k=2");

@@ -501,12 +501,32 @@ bool may_recentre(const EmittedPiece& p, const Radial& f, Recentre which) {
     return which == Recentre::every_piece || (p.lo > 0 && p.hi && *p.hi < f.support());
 }
 
+// A Laurent polynomial r^low P(r) (centred_terms keeps r^low in front) is
+// recentred only where its own terms cancel worse than this: until stop 91
+// only polynomials were, and the quintic spline's W'/r and Laplacian on
+// [1/3, 2/3) were 43 and 93.5 intrinsic ulps off in the fast form (3D), its
+// 2D potential's derivative 50 (accuracy_test's fast bounds found them; own
+// terms conditioned 100-315 there, the fast form's error ~0.3-0.5 ulp per
+// unit). Milder ones keep their terms, within the fast bound as they are and
+// one branch each: the Green's function joined to a potential's edge terms,
+// GADGET-4's g-factors of the cubic spline (conditioned 5.7-24.9), which
+// recentred at 16 took 4.9 against 1.35 ns a call (a loop over 4,096 random
+// u: the sub-pieces' branches).
+constexpr double laurent_recentre_condition = 32;
+
+bool recentrable(const EmittedPiece& p, const ClosedForm& form) {
+    if (is_polynomial_form(form) || vanishes_at(form, p.lo)) return true;
+    if (!form.has_only_basis_one()) return false;
+    std::map<Q, double> scales;
+    return worst_condition(Magnitude(p.terms), form, form.derivative(), p.lo, *p.hi, scales) > laurent_recentre_condition;
+}
+
 std::vector<EmittedPiece> recentred(const Radial& f, std::vector<EmittedPiece> pieces, Recentre which) {
     std::vector<EmittedPiece> out;
     for (EmittedPiece& p : pieces) {
         const ClosedForm* form =
             p.hi && !p.series && !p.centred && may_recentre(p, f, which) ? &f.form_at((p.lo + *p.hi) / 2) : nullptr;
-        if (!form || form->is_zero() || !(is_polynomial_form(*form) || vanishes_at(*form, p.lo))) {
+        if (!form || form->is_zero() || !recentrable(p, *form)) {
             out.push_back(std::move(p));
             continue;
         }

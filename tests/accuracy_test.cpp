@@ -140,6 +140,25 @@ Bound bound(Family f, QuantityId q, int dim) {
     return {4, f == Family::combo && kink ? 256.0 : 4.0, 1};
 }
 
+// Precision::fast (plain double: the factored forms with rounded q and
+// 1 - q), at the same points, in intrinsic ulps: measured <= 21.8 (Wendland
+// k = 4, l = 3 and 4: the edge factor's power times the half ulp of its
+// base, README "Runtime accuracy"), bound 32, the bound of the files that
+// evaluate the same forms (targets_test); <= 49.7 for the mollifiers of order
+// 4 and 6, whose one polynomial in q^2 on [0, 1) cancels (sum |terms| /
+// max(|f|, |r f'|) up to 110 for W'' and the Laplacian of order 6), and
+// <= 39.3 for the combinations (the terms of their radii cancel: the
+// m = 3 combinations of mollifier:M=9), bound 64. A piece between two
+// breakpoints whose own terms cancel is written as Taylor polynomials
+// (generator/emit_plan.cpp, recentre); before Laurent pieces got them too
+// (stop 91) the quintic spline's 3D W'/r and Laplacian were 43 and 93.5
+// ulps off, its 2D potential's derivative 50. Tiny values (near a root of
+// W'', where a plain Horner sum keeps an absolute error of a few ulps of its
+// largest term): measured <= 1.79 ulp of max |f_h| (mollifier:M=5's W''),
+// bound 4.
+double fast_bound(Family f) { return f == Family::anderson_high || f == Family::combo ? 64 : 32; }
+constexpr double fast_tiny_bound = 4;
+
 // ---------------------------------------------------------------------------
 // The intrinsic metric.
 
@@ -311,53 +330,76 @@ bool beyond_doubles(const Real& exact) {
 
 using PerQuantity = std::array<Measured, table::quantity_count>;
 
-// Every quantity of one kernel: the runtime's values first, then the exact
-// ones point by point (all quantities at a point in turn: the reference
-// shares the point's bases among them).
-PerQuantity measure_kernel(const table::Kernel& t, const acc::Reference& ref) {
-    const mollify::Kernel k = mollify::kernel(t.spec, t.dim);
+struct KernelMeasured {
+    PerQuantity accurate, fast;
+};
+
+// Every quantity of one kernel in both precisions: the runtime's values
+// first, then the exact ones point by point (all quantities at a point in
+// turn: the reference shares the point's bases among them). A fast value's
+// intrinsic error is taken from the slope (an MPFR evaluation) only where its
+// raw error exceeds fast_slope_from ulps; below, the raw error bounds it (the
+// intrinsic scale is at least |f|), and the fast maxima that matter lie
+// above it.
+constexpr double fast_slope_from = 4;
+KernelMeasured measure_kernel(const table::Kernel& t, const acc::Reference& ref) {
+    const mollify::Kernel k = mollify::kernel(t.spec, t.dim), fast = k.with(mollify::Precision::fast);
     const auto& pts = points();
     const std::vector<Batch> bs = batches(k, pts);
     std::vector<QuantityId> qs;
-    std::array<std::vector<double>, table::quantity_count> y;
+    std::array<std::vector<double>, table::quantity_count> y, y_fast;
     for (int qi = 0; qi < table::quantity_count; ++qi) {
         const auto q = static_cast<QuantityId>(qi);
         if (!ref.has(q)) continue;
         qs.push_back(q);
         y[static_cast<std::size_t>(qi)] = runtime_values(k, q, bs, pts.size());
+        y_fast[static_cast<std::size_t>(qi)] = runtime_values(fast, q, bs, pts.size());
     }
     const std::string who = std::string(t.spec) + " D" + std::to_string(t.dim);
     ref.find_all_maxima();
-    PerQuantity out;
+    KernelMeasured out;
     for (std::size_t i = 0; i < pts.size(); ++i)
         for (const QuantityId q : qs) {
-            const double yi = y[static_cast<std::size_t>(q)][i];
-            Measured& m = out[static_cast<std::size_t>(q)];
             const Real exact = ref.value(q, pts[i].r, pts[i].h);
-            if (beyond_doubles(exact)) {
-                ++m.overflow;
-                if (!(std::isinf(yi) && (yi > 0) == (exact > 0))) ++m.overflow_wrong;
-                continue;
+            const double scale = scale_at(ref, q, pts[i].h);
+            const auto qi = static_cast<std::size_t>(q);
+            for (const bool is_fast : {false, true}) {
+                const double yi = (is_fast ? y_fast : y)[qi][i];
+                Measured& m = (is_fast ? out.fast : out.accurate)[qi];
+                if (beyond_doubles(exact)) {
+                    ++m.overflow;
+                    if (!(std::isinf(yi) && (yi > 0) == (exact > 0))) ++m.overflow_wrong;
+                    continue;
+                }
+                const double u = acc::ulp_error(yi, exact);
+                const bool raw_bounds_it = is_fast && u <= fast_slope_from;
+                add(m, yi, exact, scale, u, raw_bounds_it ? u : intrinsic_error(yi, exact, u, ref, q, pts[i]), pts[i], who);
             }
-            const double u = acc::ulp_error(yi, exact);
-            add(m, yi, exact, scale_at(ref, q, pts[i].h), u, intrinsic_error(yi, exact, u, ref, q, pts[i]), pts[i], who);
         }
     return out;
 }
 
 // Every kernel of one family and dimension.
 void check_family(Family family, int dim) {
-    std::map<int, Measured> summary;  // per quantity
+    std::map<int, Measured> summary, fast_summary;  // per quantity
     int kernels = 0;
     for (const table::Kernel* t : mollify::tables::all_kernels) {
         if (t->dim != dim || family_of(t->spec) != family) continue;
         ++kernels;
         const acc::Reference ref(t->spec, t->dim);
-        const PerQuantity measured = measure_kernel(*t, ref);
+        const KernelMeasured both = measure_kernel(*t, ref);
         for (int qi = 0; qi < table::quantity_count; ++qi) {
             const auto q = static_cast<QuantityId>(qi);
             if (!ref.has(q)) continue;
-            const Measured& m = measured[static_cast<std::size_t>(qi)];
+            const Measured& f = both.fast[static_cast<std::size_t>(qi)];
+            EXPECT_LE(f.max_intrinsic, fast_bound(family)) << t->spec << " D" << dim << " " << mollify::quantity_names[qi]
+                                                             << " (fast): " << describe(f);
+            EXPECT_LE(f.s.max_scaled, fast_tiny_bound) << t->spec << " D" << dim << " " << mollify::quantity_names[qi]
+                                         << " (fast): " << describe(f) << " tiny worst " << f.worst_scaled_at;
+            EXPECT_EQ(f.overflow_wrong, 0) << t->spec << " D" << dim << " " << mollify::quantity_names[qi] << " (fast): "
+                                           << describe(f);
+            merge(fast_summary[qi], f);
+            const Measured& m = both.accurate[static_cast<std::size_t>(qi)];
             const Bound b = bound(family, q, dim);
             EXPECT_LE(m.max_intrinsic, b.intrinsic) << t->spec << " D" << dim << " " << mollify::quantity_names[qi] << ": "
                                              << describe(m);
@@ -374,6 +416,11 @@ void check_family(Family family, int dim) {
     for (const auto& [qi, m] : summary)
         std::printf("[accuracy] %-22s D%d %-21s %s\n", family_names[static_cast<int>(family)], dim,
                     mollify::quantity_names[qi], describe(m).c_str());
+    for (const auto& [qi, m] : fast_summary)
+        std::printf("[accuracy fast] %-22s D%d %-21s intrinsic max %.3g ulp at %s r=%.17g h=%.17g (%s) | tiny: max %.3g ulp of max\n",
+                    family_names[static_cast<int>(family)], dim, mollify::quantity_names[qi], m.max_intrinsic,
+                    m.intrinsic_kernel.c_str(), m.worst_intrinsic.r, m.worst_intrinsic.h, m.worst_intrinsic.why,
+                    m.s.max_scaled);
     std::fflush(stdout);
 }
 

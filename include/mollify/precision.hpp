@@ -16,8 +16,11 @@ enum class Precision {
     // functions, <= 2.96), potentials within 8 (tests/accuracy_test.cpp).
     accurate,
     // Plain double: the same factored forms with rounded q and 1 - q, whose
-    // half-ulp the power n multiplies (up to ~25 ulp for n = 14); 2.8-3.8x
-    // the speed (bench/results/kernel_bench.md).
+    // half-ulp the power n multiplies; 2.8-3.8x the speed
+    // (bench/results/kernel_bench.md). Every catalogue kernel within 32 ulps
+    // of max(|f|, |r f'|) (measured <= 21.8), the mollifiers of order 4 and 6
+    // and the combinations within 64 (their polynomials' terms cancel:
+    // measured <= 49.7) (tests/accuracy_test.cpp, fast_bound).
     fast,
 };
 

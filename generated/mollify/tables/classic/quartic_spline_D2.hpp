@@ -149,31 +149,44 @@ inline constexpr table::Term laplacian_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.999999999999ap-3, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 2, .c_lo = laplacian_0_0_lo, .edge_lo = -0x1.999999999999ap-57},
 };
 inline constexpr double laplacian_1_0[] = {
-    0x1.fdb8784300509p+0,  // 7500/1199 * pi^-1
-    -0x1.dddcf0bed04b8p+6,  // -450000/1199 * pi^-1
-    0x1.bfff21b2e346dp+8,  // 1687500/1199 * pi^-1
+    -0x1.11f98d70d02b5p+2,  // -16125/1199 * pi^-1
+    0x1.4e810eebf834ep+5,  // 157500/1199 * pi^-1
+    0x1.6665b48f1c38ap+6,  // 337500/1199 * pi^-1
     -0x1.8e381df4583efp+8,  // -1500000/1199 * pi^-1
 };
 inline constexpr double laplacian_1_0_lo[] = {
-    -0x1.e2f4d485e6ffp-57, -0x1.87674f184eee2p-48, -0x1.221e4bb26c018p-47, 0x1.e53d182271dcdp-51,
+    0x1.8db27fc1fe3d7p-53, -0x1.0f3c2addf7e5dp-50, 0x1.258d7b523b329p-48, 0x1.e53d182271dcdp-51,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.3333333333333p-1, .edge_power = 0, .low = -1, .c = laplacian_1_0, .n = 4, .c_lo = laplacian_1_0_lo, .edge_lo = 0x1.999999999999ap-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.999999999999ap-2, .edge_power = 0, .low = -1, .c = laplacian_1_0, .n = 4, .centre = 0x1.3333333333333p-2, .centre_lo = 0x1.999999999999ap-57, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr double laplacian_2_0[] = {
+    0x1.1eb7c3a5b02d5p+2,  // 16875/1199 * pi^-1
+    0x1.dddcf0bed04b8p+4,  // 112500/1199 * pi^-1
+    -0x1.2aaa1677422f3p+7,  // -562500/1199 * pi^-1
+    -0x1.8e381df4583efp+8,  // -1500000/1199 * pi^-1
+};
+inline constexpr double laplacian_2_0_lo[] = {
+    0x1.e0ac90e95c212p-56, 0x1.87674f184eee2p-50, -0x1.e94122de62a9ap-48, 0x1.e53d182271dcdp-51,
+};
+inline constexpr table::Term laplacian_2[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.3333333333333p-1, .edge_power = 0, .low = -1, .c = laplacian_2_0, .n = 4, .centre = 0x1p-1, .c_lo = laplacian_2_0_lo},
+};
+inline constexpr double laplacian_3_0[] = {
     -0x1.8e381df4583efp+4,  // -93750/1199 * pi^-1
     0x1.8e381df4583efp+6,  // 375000/1199 * pi^-1
 };
-inline constexpr double laplacian_2_0_lo[] = {
+inline constexpr double laplacian_3_0_lo[] = {
     0x1.e53d182271dcdp-55, -0x1.e53d182271dcdp-53,
 };
-inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -1, .c = laplacian_2_0, .n = 2, .c_lo = laplacian_2_0_lo},
+inline constexpr table::Term laplacian_3[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -1, .c = laplacian_3_0, .n = 2, .c_lo = laplacian_3_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
     {.lo = 0x0p+0, .hi = 0x1.999999999999ap-3, .terms = laplacian_0, .nterms = 1},  // [0, 1/5)
-    {.lo = 0x1.999999999999ap-3, .hi = 0x1.3333333333333p-1, .terms = laplacian_1, .nterms = 1},  // [1/5, 3/5)
-    {.lo = 0x1.3333333333333p-1, .hi = 0x1p+0, .terms = laplacian_2, .nterms = 1},  // [3/5, 1)
+    {.lo = 0x1.999999999999ap-3, .hi = 0x1.999999999999ap-2, .terms = laplacian_1, .nterms = 1},  // [1/5, 2/5), Taylor polynomial about 3/10
+    {.lo = 0x1.999999999999ap-2, .hi = 0x1.3333333333333p-1, .terms = laplacian_2, .nterms = 1},  // [2/5, 3/5), Taylor polynomial about 1/2
+    {.lo = 0x1.3333333333333p-1, .hi = 0x1p+0, .terms = laplacian_3, .nterms = 1},  // [3/5, 1)
     {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
@@ -564,7 +577,7 @@ inline constexpr table::Kernel quartic_spline_D2 = {
         {.pieces = detail_quartic_spline_D2::value, .npieces = 5},  // value
         {.pieces = detail_quartic_spline_D2::dr, .npieces = 4},  // dr
         {.pieces = detail_quartic_spline_D2::d2r, .npieces = 4},  // d2r
-        {.pieces = detail_quartic_spline_D2::laplacian, .npieces = 4},  // laplacian
+        {.pieces = detail_quartic_spline_D2::laplacian, .npieces = 5},  // laplacian
         {.pieces = detail_quartic_spline_D2::grad_over_r, .npieces = 4},  // grad_over_r
         {.pieces = detail_quartic_spline_D2::hess_radial, .npieces = 4},  // hess_radial
         {.pieces = detail_quartic_spline_D2::potential, .npieces = 4},  // potential

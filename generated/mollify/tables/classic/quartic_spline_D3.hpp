@@ -149,31 +149,44 @@ inline constexpr table::Term laplacian_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.999999999999ap-3, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 2, .c_lo = laplacian_0_0_lo, .edge_lo = -0x1.999999999999ap-57},
 };
 inline constexpr double laplacian_1_0[] = {
-    0x1.8de329e04d143p+2,  // 625/32 * pi^-1
-    -0x1.17c3b971b6323p+8,  // -28125/32 * pi^-1
-    0x1.d2463512da53bp+9,  // 46875/16 * pi^-1
+    -0x1.d87dc1ba5b88p+3,  // -11875/256 * pi^-1
+    0x1.17c3b971b6323p+6,  // 28125/128 * pi^-1
+    0x1.d2463512da53bp+7,  // 46875/64 * pi^-1
     -0x1.848fd6e50b45cp+9,  // -78125/32 * pi^-1
 };
 inline constexpr double laplacian_1_0_lo[] = {
-    0x1.eae0270359e5fp-52, -0x1.c9259b6e5b35bp-46, 0x1.3cfab6dfb565bp-47, 0x1.a284679ae8d5ep-47,
+    -0x1.0dd45ca7f5821p-52, 0x1.c9259b6e5b35bp-48, 0x1.3cfab6dfb565bp-49, 0x1.a284679ae8d5ep-47,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.3333333333333p-1, .edge_power = 0, .low = -1, .c = laplacian_1_0, .n = 4, .c_lo = laplacian_1_0_lo, .edge_lo = 0x1.999999999999ap-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.999999999999ap-2, .edge_power = 0, .low = -1, .c = laplacian_1_0, .n = 4, .centre = 0x1.3333333333333p-2, .centre_lo = 0x1.999999999999ap-57, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr double laplacian_2_0[] = {
+    0x1.2a6a5f6839cf3p+1,  // 1875/256 * pi^-1
+    0x1.17c3b971b6323p+6,  // 28125/128 * pi^-1
+    -0x1.d2463512da53bp+7,  // -46875/64 * pi^-1
+    -0x1.848fd6e50b45cp+9,  // -78125/32 * pi^-1
+};
+inline constexpr double laplacian_2_0_lo[] = {
+    -0x1.8fd7e2bd7c939p-53, 0x1.c9259b6e5b35bp-48, -0x1.3cfab6dfb565bp-49, 0x1.a284679ae8d5ep-47,
+};
+inline constexpr table::Term laplacian_2[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.3333333333333p-1, .edge_power = 0, .low = -1, .c = laplacian_2_0, .n = 4, .centre = 0x1p-1, .c_lo = laplacian_2_0_lo},
+};
+inline constexpr double laplacian_3_0[] = {
     -0x1.36d978b73c37dp+6,  // -15625/64 * pi^-1
     0x1.848fd6e50b45cp+7,  // 78125/128 * pi^-1
 };
-inline constexpr double laplacian_2_0_lo[] = {
+inline constexpr double laplacian_3_0_lo[] = {
     0x1.2080e18561c46p-48, -0x1.a284679ae8d5ep-49,
 };
-inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -1, .c = laplacian_2_0, .n = 2, .c_lo = laplacian_2_0_lo},
+inline constexpr table::Term laplacian_3[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -1, .c = laplacian_3_0, .n = 2, .c_lo = laplacian_3_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
     {.lo = 0x0p+0, .hi = 0x1.999999999999ap-3, .terms = laplacian_0, .nterms = 1},  // [0, 1/5)
-    {.lo = 0x1.999999999999ap-3, .hi = 0x1.3333333333333p-1, .terms = laplacian_1, .nterms = 1},  // [1/5, 3/5)
-    {.lo = 0x1.3333333333333p-1, .hi = 0x1p+0, .terms = laplacian_2, .nterms = 1},  // [3/5, 1)
+    {.lo = 0x1.999999999999ap-3, .hi = 0x1.999999999999ap-2, .terms = laplacian_1, .nterms = 1},  // [1/5, 2/5), Taylor polynomial about 3/10
+    {.lo = 0x1.999999999999ap-2, .hi = 0x1.3333333333333p-1, .terms = laplacian_2, .nterms = 1},  // [2/5, 3/5), Taylor polynomial about 1/2
+    {.lo = 0x1.3333333333333p-1, .hi = 0x1p+0, .terms = laplacian_3, .nterms = 1},  // [3/5, 1)
     {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
@@ -538,7 +551,7 @@ inline constexpr table::Kernel quartic_spline_D3 = {
         {.pieces = detail_quartic_spline_D3::value, .npieces = 5},  // value
         {.pieces = detail_quartic_spline_D3::dr, .npieces = 4},  // dr
         {.pieces = detail_quartic_spline_D3::d2r, .npieces = 4},  // d2r
-        {.pieces = detail_quartic_spline_D3::laplacian, .npieces = 4},  // laplacian
+        {.pieces = detail_quartic_spline_D3::laplacian, .npieces = 5},  // laplacian
         {.pieces = detail_quartic_spline_D3::grad_over_r, .npieces = 4},  // grad_over_r
         {.pieces = detail_quartic_spline_D3::hess_radial, .npieces = 4},  // hess_radial
         {.pieces = detail_quartic_spline_D3::potential, .npieces = 4},  // potential

@@ -172,14 +172,14 @@ inline constexpr table::Term grad_over_r_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = grad_over_r_0_0, .n = 4, .edge_lo = 0x1.5555555555555p-56},
 };
 inline constexpr double grad_over_r_1_0[] = {
-    0x1.68p+2,  // 45/8
-    -0x1.7ap+6,  // -189/2
-    0x1.2fcp+8,  // 1215/4
-    -0x1.6c8p+8,  // -729/2
+    -0x1.c2p+0,  // -225/128
+    0x1.7ap+3,  // 189/16
+    -0x1.e6p+3,  // -243/16
+    -0x1.e6p+5,  // -243/4
     0x1.2fcp+7,  // 1215/8
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = grad_over_r_1_0, .n = 5, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = grad_over_r_1_0, .n = 5, .centre = 0x1p-1},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.e6p+4,  // -243/8
@@ -189,7 +189,7 @@ inline constexpr table::Term grad_over_r_2[] = {
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 1},  // [0, 1/3)
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 1},  // [1/3, 2/3)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 1},  // [1/3, 2/3), Taylor polynomial about 1/2
     {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = grad_over_r_2, .nterms = 1},  // [2/3, 1)
     {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };

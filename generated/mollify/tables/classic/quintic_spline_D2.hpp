@@ -164,18 +164,18 @@ inline constexpr table::Term laplacian_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
 };
 inline constexpr double laplacian_1_0[] = {
-    0x1.2e0fb9fd9d71fp+3,  // 14175/478 * pi^-1
-    -0x1.3d2a1ce3e5514p+8,  // -238140/239 * pi^-1
-    0x1.7e4be764fb443p+10,  // 1148175/239 * pi^-1
-    -0x1.31d652b72f69cp+11,  // -1837080/239 * pi^-1
+    0x1.bd8a6589483b4p+2,  // 167265/7648 * pi^-1
+    0x1.c51796fc6c2aep+3,  // 42525/956 * pi^-1
+    -0x1.cac17c12c71eap+7,  // -688905/956 * pi^-1
+    0x1.97c86e49948dp+6,  // 76545/239 * pi^-1
     0x1.3e9496297c0e3p+10,  // 1913625/478 * pi^-1
 };
 inline constexpr double laplacian_1_0_lo[] = {
-    -0x1.36a4e2a582811p-54, 0x1.28c5a425b920fp-46, 0x1.7db5d449a1b53p-45, -0x1.315e436e1af75p-44,
+    0x1.1ae665a5efc0dp-54, 0x1.c5c11580f787dp-51, -0x1.ca0d65252873p-48, 0x1.972859e823f47p-49,
     -0x1.60f43ce151f48p-44,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = laplacian_1_0, .n = 5, .c_lo = laplacian_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = laplacian_1_0, .n = 5, .centre = 0x1p-1, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.97c86e49948dp+5,  // -76545/478 * pi^-1
@@ -189,7 +189,7 @@ inline constexpr table::Term laplacian_2[] = {
 };
 inline constexpr table::Piece laplacian[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = laplacian_0, .nterms = 1},  // [0, 1/3)
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = laplacian_1, .nterms = 1},  // [1/3, 2/3)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = laplacian_1, .nterms = 1},  // [1/3, 2/3), Taylor polynomial about 1/2
     {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = laplacian_2, .nterms = 1},  // [2/3, 1)
     {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
@@ -206,18 +206,18 @@ inline constexpr table::Term grad_over_r_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = grad_over_r_0_0, .n = 4, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
 };
 inline constexpr double grad_over_r_1_0[] = {
-    0x1.2e0fb9fd9d71fp+3,  // 14175/478 * pi^-1
-    -0x1.3d2a1ce3e5514p+7,  // -119070/239 * pi^-1
-    0x1.fdba89dbf9b04p+8,  // 382725/239 * pi^-1
-    -0x1.31d652b72f69cp+9,  // -459270/239 * pi^-1
+    -0x1.7993a87d04ce7p+1,  // -70875/7648 * pi^-1
+    0x1.3d2a1ce3e5514p+4,  // 59535/956 * pi^-1
+    -0x1.97c86e49948dp+4,  // -76545/956 * pi^-1
+    -0x1.97c86e49948dp+6,  // -76545/239 * pi^-1
     0x1.fdba89dbf9b04p+7,  // 382725/478 * pi^-1
 };
 inline constexpr double grad_over_r_1_0_lo[] = {
-    -0x1.36a4e2a582811p-54, 0x1.28c5a425b920fp-47, 0x1.fcf270622cf19p-47, -0x1.315e436e1af75p-46,
+    0x1.3089c369dc643p-53, -0x1.28c5a425b920fp-50, -0x1.972859e823f47p-51, -0x1.972859e823f47p-49,
     0x1.fcf270622cf19p-48,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = grad_over_r_1_0, .n = 5, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = grad_over_r_1_0, .n = 5, .centre = 0x1p-1, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.97c86e49948dp+5,  // -76545/478 * pi^-1
@@ -230,7 +230,7 @@ inline constexpr table::Term grad_over_r_2[] = {
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 1},  // [0, 1/3)
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 1},  // [1/3, 2/3)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 1},  // [1/3, 2/3), Taylor polynomial about 1/2
     {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = grad_over_r_2, .nterms = 1},  // [2/3, 1)
     {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
@@ -425,21 +425,21 @@ inline constexpr table::Term dpotential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 7, .centre = 0x1p-2, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
-    0x1.b46ae18e35329p-10,  // 5/956 * pi^-1
+    0x1.271d5340138c6p-3,  // 13849/30592 * pi^-1
+    0x1.3e2bdf3783b57p-3,  // 14931/30592 * pi^-1
+    -0x1.2a08b0af23e11p-1,  // -6993/3824 * pi^-1
+    0x1.5656170e5d1acp-1,  // 16065/7648 * pi^-1
+    0x1.6a794596bcef2p+0,  // 8505/1912 * pi^-1
+    -0x1.0fdaf4310db35p+2,  // -25515/1912 * pi^-1
     0x0p+0,  // 0
-    0x1.11de78d84a7bcp+0,  // 3213/956 * pi^-1
-    0x1.92bfa2a77c97fp+1,  // 4725/478 * pi^-1
-    -0x1.3d2a1ce3e5514p+4,  // -59535/956 * pi^-1
-    0x1.0fdaf4310db35p+5,  // 25515/239 * pi^-1
-    -0x1.97c86e49948dp+4,  // -76545/956 * pi^-1
     0x1.d209a29d3c0eep+2,  // 10935/478 * pi^-1
 };
 inline constexpr double dpotential_2_0_lo[] = {
-    0x1.03220731613f4p-67, 0x0p+0, 0x1.feed50207135ap-54, -0x1.891b7b1b95c03p-53,
-    0x1.28c5a425b920fp-50, 0x1.dd0d734d61518p-49, -0x1.972859e823f47p-51, -0x1.df478991a4c72p-55,
+    -0x1.43a568105a441p-57, 0x1.d05494879da25p-58, 0x1.aa5157eb4061dp-57, -0x1.81575bd7727cfp-55,
+    -0x1.74c5dcc69c9aep-57, -0x1.dd0d734d61518p-52, 0x0p+0, -0x1.df478991a4c72p-55,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_2_0, .n = 8, .c_lo = dpotential_2_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_2_0, .n = 8, .centre = 0x1p-1, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -475,7 +475,7 @@ inline constexpr table::Term dpotential_4[] = {
 inline constexpr table::Piece dpotential[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/6)
     {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = dpotential_1, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dpotential_2, .nterms = 1},  // [1/3, 2/3)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dpotential_2, .nterms = 1},  // [1/3, 2/3), Taylor polynomial about 1/2
     {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [2/3, 1)
     {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
@@ -495,21 +495,21 @@ inline constexpr table::Term dpotential_over_r_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 6, .centre = 0x1.5555555555555p-3, .centre_lo = 0x1.5555555555555p-57, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
-    0x1.b46ae18e35329p-10,  // 5/956 * pi^-1
+    0x1.271d5340138c6p-3,  // 13849/30592 * pi^-1
+    0x1.3e2bdf3783b57p-3,  // 14931/30592 * pi^-1
+    -0x1.2a08b0af23e11p-1,  // -6993/3824 * pi^-1
+    0x1.5656170e5d1acp-1,  // 16065/7648 * pi^-1
+    0x1.6a794596bcef2p+0,  // 8505/1912 * pi^-1
+    -0x1.0fdaf4310db35p+2,  // -25515/1912 * pi^-1
     0x0p+0,  // 0
-    0x1.11de78d84a7bcp+0,  // 3213/956 * pi^-1
-    0x1.92bfa2a77c97fp+1,  // 4725/478 * pi^-1
-    -0x1.3d2a1ce3e5514p+4,  // -59535/956 * pi^-1
-    0x1.0fdaf4310db35p+5,  // 25515/239 * pi^-1
-    -0x1.97c86e49948dp+4,  // -76545/956 * pi^-1
     0x1.d209a29d3c0eep+2,  // 10935/478 * pi^-1
 };
 inline constexpr double dpotential_over_r_1_0_lo[] = {
-    0x1.03220731613f4p-67, 0x0p+0, 0x1.feed50207135ap-54, -0x1.891b7b1b95c03p-53,
-    0x1.28c5a425b920fp-50, 0x1.dd0d734d61518p-49, -0x1.972859e823f47p-51, -0x1.df478991a4c72p-55,
+    -0x1.43a568105a441p-57, 0x1.d05494879da25p-58, 0x1.aa5157eb4061dp-57, -0x1.81575bd7727cfp-55,
+    -0x1.74c5dcc69c9aep-57, -0x1.dd0d734d61518p-52, 0x0p+0, -0x1.df478991a4c72p-55,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_1_0, .n = 8, .c_lo = dpotential_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_1_0, .n = 8, .centre = 0x1p-1, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -544,7 +544,7 @@ inline constexpr table::Term dpotential_over_r_3[] = {
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/3), Taylor polynomial about 1/6
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dpotential_over_r_1, .nterms = 1},  // [1/3, 2/3)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dpotential_over_r_1, .nterms = 1},  // [1/3, 2/3), Taylor polynomial about 1/2
     {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 2},  // [2/3, 1)
     {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
@@ -561,60 +561,96 @@ inline constexpr table::Term potential_hess_radial_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 4, .centre = 0x1.5555555555555p-3, .centre_lo = 0x1.5555555555555p-57, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
-    -0x1.b46ae18e35329p-9,  // -5/478 * pi^-1
-    0x0p+0,  // 0
-    0x0p+0,  // 0
-    0x1.92bfa2a77c97fp+1,  // 4725/478 * pi^-1
-    -0x1.3d2a1ce3e5514p+5,  // -59535/478 * pi^-1
-    0x1.97c86e49948dp+6,  // 76545/239 * pi^-1
-    -0x1.97c86e49948dp+6,  // -76545/239 * pi^-1
+    -0x1.c664a283f4b5bp-4,  // -349365055/1002438656 * pi^-1
+    -0x1.90a5e730eaf8fp-1,  // -308042595/125304832 * pi^-1
+    -0x1.711c5e0cef84cp-1,  // -35474355/15663104 * pi^-1
+    0x1.2dfe1b34e61e1p+2,  // 29023785/1957888 * pi^-1
+    0x1.d4aaccf9e6493p+1,  // 2815155/244736 * pi^-1
+    -0x1.3e9496297c0e3p+4,  // -1913625/30592 * pi^-1
+    -0x1.97c86e49948dp+2,  // -76545/3824 * pi^-1
     0x1.234605a245895p+5,  // 54675/478 * pi^-1
 };
 inline constexpr double potential_hess_radial_1_0_lo[] = {
-    -0x1.03220731613f4p-66, 0x0p+0, 0x0p+0, -0x1.891b7b1b95c03p-53,
-    0x1.28c5a425b920fp-49, 0x1.972859e823f47p-49, -0x1.972859e823f47p-49, -0x1.257196bf60df9p-49,
+    -0x1.3094713572bdbp-59, -0x1.8eaefa9562146p-55, -0x1.419b0efa019c4p-60, 0x1.6302fcdf18e4dp-52,
+    -0x1.487ef51d331f1p-54, 0x1.60f43ce151f48p-50, -0x1.972859e823f47p-53, -0x1.257196bf60df9p-49,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_1_0, .n = 8, .c_lo = potential_hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.aaaaaaaaaaaabp-2, .edge_power = 0, .low = -4, .c = potential_hess_radial_1_0, .n = 8, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    -0x1.6d3608ac17b3ap-3,  // -561592965/1002438656 * pi^-1
+    -0x1.99fcf16d246b6p-1,  // -315223755/125304832 * pi^-1
+    0x1.fa67bb6df7df7p-2,  // 24334695/15663104 * pi^-1
+    0x1.22d2976540f64p+2,  // 27950265/1957888 * pi^-1
+    -0x1.23e9ff8ae527fp+2,  // -3506895/244736 * pi^-1
+    -0x1.1c9937a35a57cp+4,  // -1709505/30592 * pi^-1
+    0x1.dbbf2b55d7f9ep+3,  // 178605/3824 * pi^-1
+    0x1.234605a245895p+5,  // 54675/478 * pi^-1
 };
 inline constexpr double potential_hess_radial_2_0_lo[] = {
+    0x1.b949c834a2e7fp-58, -0x1.df3dfa19fba57p-55, 0x1.9091423ec0becp-56, 0x1.571d3ffc5cbf4p-52,
+    0x1.e986ab143e63dp-52, 0x1.c95eb4afe1eb3p-54, -0x1.bd28763895b16p-51, -0x1.257196bf60df9p-49,
+};
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_2_0, .n = 8, .centre = 0x1.d555555555555p-2, .centre_lo = 0x1.5555555555555p-56, .c_lo = potential_hess_radial_2_0_lo},
+};
+inline constexpr double potential_hess_radial_3_0[] = {
+    -0x1.0db8d8925e67fp-2,  // -6480585/7831552 * pi^-1
+    -0x1.09195f5b858cap-1,  // -3184755/1957888 * pi^-1
+    0x1.80577a1ed4ffcp+0,  // 2308635/489472 * pi^-1
+    0x1.8120d9f028be1p-2,  // 144585/122368 * pi^-1
+    -0x1.368e919f25df9p+3,  // -932715/30592 * pi^-1
+    0x1.53d1b13d51203p+2,  // 127575/7648 * pi^-1
+    0x1.75cd0fc372d6ap+5,  // 280665/1912 * pi^-1
+    0x1.234605a245895p+5,  // 54675/478 * pi^-1
+};
+inline constexpr double potential_hess_radial_3_0_lo[] = {
+    -0x1.7d8c8ad9cb4b3p-56, -0x1.9fb1a7f7da3a4p-56, 0x1.5142466b2cfe5p-54, 0x1.39f6e2b67ccdcp-58,
+    0x1.77ec30ba45459p-51, -0x1.575e5fbe8cb45p-53, -0x1.f00d81759a2ffp-49, -0x1.257196bf60df9p-49,
+};
+inline constexpr table::Term potential_hess_radial_3[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_3_0, .n = 8, .centre = 0x1.2aaaaaaaaaaabp-1, .centre_lo = -0x1.5555555555555p-55, .c_lo = potential_hess_radial_3_0_lo},
+};
+inline constexpr double potential_hess_radial_4_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
-inline constexpr double potential_hess_radial_2_1[] = {
+inline constexpr double potential_hess_radial_4_1[] = {
     0x1.f11b581f2efedp-2,  // 729/478 * pi^-1
     0x1.36b117137d5f4p+1,  // 3645/478 * pi^-1
     0x1.d209a29d3c0eep+2,  // 10935/478 * pi^-1
 };
-inline constexpr double potential_hess_radial_2_1_lo[] = {
+inline constexpr double potential_hess_radial_4_1_lo[] = {
     -0x1.0cb43479d1b42p-56, -0x1.3f8506611884cp-56, -0x1.df478991a4c72p-55,
 };
-// potential_hess_radial_2_1 = content * potential_hess_radial_2_1_m, content = 729/478 * pi^-1 (table::Term::split)
-inline constexpr double potential_hess_radial_2_1_m[] = {
+// potential_hess_radial_4_1 = content * potential_hess_radial_4_1_m, content = 729/478 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_4_1_m[] = {
     0x1p+0,  // 1
     0x1.4p+2,  // 5
     0x1.ep+3,  // 15
 };
-inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_2_1, .n = 3, .c_lo = potential_hess_radial_2_1_lo, .split = 24, .m = potential_hess_radial_2_1_m, .content = 0x1.f11b581f2efedp-2, .content_lo = -0x1.0cb43479d1b42p-56},
+inline constexpr table::Term potential_hess_radial_4[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_4_1, .n = 3, .c_lo = potential_hess_radial_4_1_lo, .split = 24, .m = potential_hess_radial_4_1_m, .content = 0x1.f11b581f2efedp-2, .content_lo = -0x1.0cb43479d1b42p-56},
 };
-inline constexpr double potential_hess_radial_3_0[] = {
+inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
-inline constexpr double potential_hess_radial_3_0_lo[] = {
+inline constexpr double potential_hess_radial_5_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
-inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
+inline constexpr table::Term potential_hess_radial_5[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/3), Taylor polynomial about 1/6
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/3, 2/3)
-    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 2},  // [2/3, 1)
-    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.aaaaaaaaaaaabp-2, .terms = potential_hess_radial_1, .nterms = 1},  // [1/3, 5/12), Taylor polynomial about 3/8
+    {.lo = 0x1.aaaaaaaaaaaabp-2, .hi = 0x1p-1, .terms = potential_hess_radial_2, .nterms = 1},  // [5/12, 1/2), Taylor polynomial about 11/24
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_hess_radial_3, .nterms = 1},  // [1/2, 2/3), Taylor polynomial about 7/12
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_hess_radial_4, .nterms = 2},  // [2/3, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_5, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_quintic_spline_D2
 inline constexpr table::Kernel quintic_spline_D2 = {
@@ -637,7 +673,7 @@ inline constexpr table::Kernel quintic_spline_D2 = {
         {.pieces = detail_quintic_spline_D2::potential, .npieces = 4},  // potential
         {.pieces = detail_quintic_spline_D2::dpotential, .npieces = 5},  // dpotential
         {.pieces = detail_quintic_spline_D2::dpotential_over_r, .npieces = 4},  // dpotential_over_r
-        {.pieces = detail_quintic_spline_D2::potential_hess_radial, .npieces = 4},  // potential_hess_radial
+        {.pieces = detail_quintic_spline_D2::potential_hess_radial, .npieces = 6},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

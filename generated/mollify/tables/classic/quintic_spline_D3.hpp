@@ -164,18 +164,18 @@ inline constexpr table::Term laplacian_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
 };
 inline constexpr double laplacian_1_0[] = {
-    0x1.01d4bced81d1bp+5,  // 405/4 * pi^-1
-    -0x1.9615765c7943ep+9,  // -5103/2 * pi^-1
-    0x1.b316fed0cb11ep+11,  // 10935 * pi^-1
-    -0x1.46513f1c984d7p+12,  // -32805/2 * pi^-1
+    0x1.b6500dfa297e2p+2,  // 1377/64 * pi^-1
+    0x1.d01887451cdfep+5,  // 729/4 * pi^-1
+    -0x1.b316fed0cb11ep+8,  // -10935/8 * pi^-1
+    0x0p+0,  // 0
     0x1.46513f1c984d7p+11,  // 32805/4 * pi^-1
 };
 inline constexpr double laplacian_1_0_lo[] = {
-    0x1.5edafa8f7bca4p-49, -0x1.0eff4aa1fc91bp-45, 0x1.20230da441ca8p-44, 0x1.93f2dae267541p-42,
+    -0x1.4525560c13f5p-52, 0x1.123c3024538d1p-53, -0x1.20230da441ca8p-47, 0x0p+0,
     -0x1.93f2dae267541p-43,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = laplacian_1_0, .n = 5, .c_lo = laplacian_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = laplacian_1_0, .n = 5, .centre = 0x1p-1, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.5c126573d5a7fp+7,  // -2187/4 * pi^-1
@@ -189,7 +189,7 @@ inline constexpr table::Term laplacian_2[] = {
 };
 inline constexpr table::Piece laplacian[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = laplacian_0, .nterms = 1},  // [0, 1/3)
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = laplacian_1, .nterms = 1},  // [1/3, 2/3)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = laplacian_1, .nterms = 1},  // [1/3, 2/3), Taylor polynomial about 1/2
     {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = laplacian_2, .nterms = 1},  // [2/3, 1)
     {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
@@ -206,18 +206,18 @@ inline constexpr table::Term grad_over_r_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = grad_over_r_0_0, .n = 4, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
 };
 inline constexpr double grad_over_r_1_0[] = {
-    0x1.01d4bced81d1bp+4,  // 405/8 * pi^-1
-    -0x1.0eb8f992fb82ap+8,  // -1701/2 * pi^-1
-    0x1.b316fed0cb11ep+9,  // 10935/4 * pi^-1
-    -0x1.050dcc16e03dfp+10,  // -6561/2 * pi^-1
+    -0x1.4249ec28e2462p+2,  // -2025/128 * pi^-1
+    0x1.0eb8f992fb82ap+5,  // 1701/16 * pi^-1
+    -0x1.5c126573d5a7fp+5,  // -2187/16 * pi^-1
+    -0x1.5c126573d5a7fp+7,  // -2187/4 * pi^-1
     0x1.b316fed0cb11ep+8,  // 10935/8 * pi^-1
 };
 inline constexpr double grad_over_r_1_0_lo[] = {
-    0x1.5edafa8f7bca4p-50, 0x1.f60078e9579eep-46, 0x1.20230da441ca8p-46, 0x1.d96f893ae4403p-46,
+    -0x1.6d237266b5799p-53, -0x1.f60078e9579eep-49, 0x1.f3252dbe4c156p-49, 0x1.f3252dbe4c156p-47,
     0x1.20230da441ca8p-47,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = grad_over_r_1_0, .n = 5, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = grad_over_r_1_0, .n = 5, .centre = 0x1p-1, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.5c126573d5a7fp+6,  // -2187/8 * pi^-1
@@ -230,7 +230,7 @@ inline constexpr table::Term grad_over_r_2[] = {
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 1},  // [0, 1/3)
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 1},  // [1/3, 2/3)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 1},  // [1/3, 2/3), Taylor polynomial about 1/2
     {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = grad_over_r_2, .nterms = 1},  // [2/3, 1)
     {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
@@ -297,23 +297,23 @@ inline constexpr table::Term potential_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 8, .c_lo = potential_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
 };
 inline constexpr double potential_1_0[] = {
-    -0x1.f0af47688d004p-13,  // -1/1344 * pi^-1
-    -0x1.134f8e7b408e7p-2,  // -473/560 * pi^-1
+    -0x1.3dae7d8a6ab4fp-4,  // -419171/1720320 * pi^-1
+    -0x1.a51d6917fe591p-6,  // -1447/17920 * pi^-1
+    0x1.0f94fd9e039f7p-3,  // 2133/5120 * pi^-1
+    -0x1.5330e6572c7dbp-2,  // -333/320 * pi^-1
+    0x1.24355ea6c6541p-2,  // 459/512 * pi^-1
+    0x1.ef0918d240eedp-2,  // 243/160 * pi^-1
+    -0x1.3565af8368954p+0,  // -243/64 * pi^-1
     0x0p+0,  // 0
-    0x1.37b064f628e23p-1,  // 153/80 * pi^-1
-    0x1.57c6513cad17ap+0,  // 135/32 * pi^-1
-    -0x1.b127f5b7f8d0fp+2,  // -1701/80 * pi^-1
-    0x1.3565af8368954p+3,  // 243/8 * pi^-1
-    -0x1.8dcbe1a8f42dap+2,  // -2187/112 * pi^-1
     0x1.8dcbe1a8f42dap+0,  // 2187/448 * pi^-1
 };
 inline constexpr double potential_1_0_lo[] = {
-    -0x1.ffd11c9017ddfp-71, -0x1.1aa6347755d09p-59, 0x0p+0, 0x1.51ac8f9c63961p-55,
-    -0x1.adb80e81608f6p-55, -0x1.b99816aee79d4p-53, 0x1.6da59585c4bc1p-56, 0x1.15e158d97b863p-52,
+    0x1.82ebd63d9412ap-58, -0x1.25250baac5092p-64, 0x1.04574c30bc6b3p-57, -0x1.394a65bdc9affp-57,
+    0x1.f2471a8a7572ap-58, -0x1.75090aa5d2bap-57, -0x1.6da59585c4bc1p-59, 0x0p+0,
     -0x1.15e158d97b863p-54,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 9, .c_lo = potential_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 9, .centre = 0x1p-1, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -348,7 +348,7 @@ inline constexpr table::Term potential_3[] = {
 };
 inline constexpr table::Piece potential[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = potential_0, .nterms = 1},  // [0, 1/3)
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = potential_1, .nterms = 1},  // [1/3, 2/3)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = potential_1, .nterms = 1},  // [1/3, 2/3), Taylor polynomial about 1/2
     {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_2, .nterms = 2},  // [2/3, 1)
     {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
@@ -384,47 +384,42 @@ inline constexpr table::Term dpotential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 7, .centre = 0x1p-2, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
-    0x1.f0af47688d004p-13,  // 1/1344 * pi^-1
-    0x0p+0,  // 0
-    0x0p+0,  // 0
-    0x1.37b064f628e23p+0,  // 153/40 * pi^-1
-    0x1.01d4bced81d1bp+2,  // 405/32 * pi^-1
-    -0x1.b127f5b7f8d0fp+4,  // -1701/20 * pi^-1
-    0x1.82bf1b6442ba9p+5,  // 1215/8 * pi^-1
-    -0x1.2a58e93eb7223p+5,  // -6561/56 * pi^-1
+    0x1.a41fb05180481p-5,  // 14191111/88080384 * pi^-1
+    0x1.7db2c4d40e09fp-3,  // 76745/131072 * pi^-1
+    -0x1.004b4e963988cp-2,  // -51531/65536 * pi^-1
+    -0x1.a3958b346e094p-1,  // -105453/40960 * pi^-1
+    0x1.0687f309d62f9p+1,  // 52785/8192 * pi^-1
+    0x1.e224dc2cc73dfp+0,  // 15147/2560 * pi^-1
+    -0x1.e36ee23d53693p+2,  // -6075/256 * pi^-1
+    -0x1.09329670a2c91p+0,  // -729/224 * pi^-1
     0x1.5c126573d5a7fp+3,  // 2187/64 * pi^-1
 };
 inline constexpr double dpotential_2_0_lo[] = {
-    0x1.ffd11c9017ddfp-71, 0x0p+0, 0x0p+0, 0x1.51ac8f9c63961p-54,
-    0x1.5edafa8f7bca4p-52, -0x1.b99816aee79d4p-51, 0x1.c90efae735eb1p-54, -0x1.2f96fd5ce35b6p-49,
+    0x1.1a6f364d1b198p-59, 0x1.653bc773b169fp-61, -0x1.481523e1bd4ap-56, 0x1.ff33528f08a59p-55,
+    -0x1.f8150789e69ecp-53, -0x1.65a911da15f3fp-54, -0x1.11da95cd081b3p-52, -0x1.3828dede05f7dp-55,
     -0x1.f3252dbe4c156p-51,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_2_0, .n = 9, .c_lo = dpotential_2_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_2_0, .n = 9, .centre = 0x1.aaaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+    0x1.2c199428f9b5dp-4,  // 101368963/440401920 * pi^-1
+    0x1.300c306bc7453p-4,  // 152831/655360 * pi^-1
+    -0x1.424184e4e82fbp-2,  // -323967/327680 * pi^-1
+    0x1.b014f0aa2eacep-2,  // 54297/40960 * pi^-1
+    0x1.c91ce66b7af56p-1,  // 22977/8192 * pi^-1
+    -0x1.ba2e202bcep+1,  // -27783/2560 * pi^-1
+    -0x1.3565af8368954p-2,  // -243/256 * pi^-1
+    0x1.aef234770886cp+3,  // 9477/224 * pi^-1
+    0x1.5c126573d5a7fp+3,  // 2187/64 * pi^-1
 };
 inline constexpr double dpotential_3_0_lo[] = {
-    -0x1.6b01ec5417056p-58,
-};
-inline constexpr double dpotential_3_1[] = {
-    -0x1.a850f0b437a82p-4,  // -729/2240 * pi^-1
-    -0x1.3e3cb48729be1p-1,  // -2187/1120 * pi^-1
-    -0x1.16751df644865p+1,  // -2187/320 * pi^-1
-};
-inline constexpr double dpotential_3_1_lo[] = {
-    0x1.3fbe9b69900d2p-59, -0x1.881885b869fb1p-55, -0x1.ae2aea02b9776p-54,
-};
-// dpotential_3_1 = content * dpotential_3_1_m, content = -729/2240 * pi^-1 (table::Term::split)
-inline constexpr double dpotential_3_1_m[] = {
-    0x1p+0,  // 1
-    0x1.8p+2,  // 6
-    0x1.5p+4,  // 21
+    -0x1.e8236417ffcc9p-59, -0x1.f6de741824493p-59, -0x1.abcaf6e67e9c6p-57, 0x1.1ef2a7b6d6107p-59,
+    0x1.5f1aa18e62671p-55, 0x1.de9a5f16b9c7cp-53, -0x1.6da59585c4bc1p-61, -0x1.04bd95d7364d5p-52,
+    -0x1.f3252dbe4c156p-51,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .split = 24, .m = dpotential_3_1_m, .content = -0x1.a850f0b437a82p-4, .content_lo = 0x1.3fbe9b69900d2p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_3_0, .n = 9, .centre = 0x1.2aaaaaaaaaaabp-1, .centre_lo = -0x1.5555555555555p-55, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -432,15 +427,40 @@ inline constexpr double dpotential_4_0[] = {
 inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
+inline constexpr double dpotential_4_1[] = {
+    -0x1.a850f0b437a82p-4,  // -729/2240 * pi^-1
+    -0x1.3e3cb48729be1p-1,  // -2187/1120 * pi^-1
+    -0x1.16751df644865p+1,  // -2187/320 * pi^-1
+};
+inline constexpr double dpotential_4_1_lo[] = {
+    0x1.3fbe9b69900d2p-59, -0x1.881885b869fb1p-55, -0x1.ae2aea02b9776p-54,
+};
+// dpotential_4_1 = content * dpotential_4_1_m, content = -729/2240 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .split = 24, .m = dpotential_4_1_m, .content = -0x1.a850f0b437a82p-4, .content_lo = 0x1.3fbe9b69900d2p-59},
+};
+inline constexpr double dpotential_5_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr double dpotential_5_0_lo[] = {
+    -0x1.6b01ec5417056p-58,
+};
+inline constexpr table::Term dpotential_5[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/6)
     {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = dpotential_1, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dpotential_2, .nterms = 1},  // [1/3, 2/3)
-    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [2/3, 1)
-    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 1},  // [1/3, 1/2), Taylor polynomial about 5/12
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_3, .nterms = 1},  // [1/2, 2/3), Taylor polynomial about 7/12
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_4, .nterms = 2},  // [2/3, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.935cbee434e88p+0,  // 99/20 * pi^-1
@@ -473,47 +493,42 @@ inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 6, .centre = 0x1p-2, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
-    0x1.f0af47688d004p-13,  // 1/1344 * pi^-1
-    0x0p+0,  // 0
-    0x0p+0,  // 0
-    0x1.37b064f628e23p+0,  // 153/40 * pi^-1
-    0x1.01d4bced81d1bp+2,  // 405/32 * pi^-1
-    -0x1.b127f5b7f8d0fp+4,  // -1701/20 * pi^-1
-    0x1.82bf1b6442ba9p+5,  // 1215/8 * pi^-1
-    -0x1.2a58e93eb7223p+5,  // -6561/56 * pi^-1
+    0x1.a41fb05180481p-5,  // 14191111/88080384 * pi^-1
+    0x1.7db2c4d40e09fp-3,  // 76745/131072 * pi^-1
+    -0x1.004b4e963988cp-2,  // -51531/65536 * pi^-1
+    -0x1.a3958b346e094p-1,  // -105453/40960 * pi^-1
+    0x1.0687f309d62f9p+1,  // 52785/8192 * pi^-1
+    0x1.e224dc2cc73dfp+0,  // 15147/2560 * pi^-1
+    -0x1.e36ee23d53693p+2,  // -6075/256 * pi^-1
+    -0x1.09329670a2c91p+0,  // -729/224 * pi^-1
     0x1.5c126573d5a7fp+3,  // 2187/64 * pi^-1
 };
 inline constexpr double dpotential_over_r_2_0_lo[] = {
-    0x1.ffd11c9017ddfp-71, 0x0p+0, 0x0p+0, 0x1.51ac8f9c63961p-54,
-    0x1.5edafa8f7bca4p-52, -0x1.b99816aee79d4p-51, 0x1.c90efae735eb1p-54, -0x1.2f96fd5ce35b6p-49,
+    0x1.1a6f364d1b198p-59, 0x1.653bc773b169fp-61, -0x1.481523e1bd4ap-56, 0x1.ff33528f08a59p-55,
+    -0x1.f8150789e69ecp-53, -0x1.65a911da15f3fp-54, -0x1.11da95cd081b3p-52, -0x1.3828dede05f7dp-55,
     -0x1.f3252dbe4c156p-51,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 9, .c_lo = dpotential_over_r_2_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 9, .centre = 0x1.aaaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+    0x1.2c199428f9b5dp-4,  // 101368963/440401920 * pi^-1
+    0x1.300c306bc7453p-4,  // 152831/655360 * pi^-1
+    -0x1.424184e4e82fbp-2,  // -323967/327680 * pi^-1
+    0x1.b014f0aa2eacep-2,  // 54297/40960 * pi^-1
+    0x1.c91ce66b7af56p-1,  // 22977/8192 * pi^-1
+    -0x1.ba2e202bcep+1,  // -27783/2560 * pi^-1
+    -0x1.3565af8368954p-2,  // -243/256 * pi^-1
+    0x1.aef234770886cp+3,  // 9477/224 * pi^-1
+    0x1.5c126573d5a7fp+3,  // 2187/64 * pi^-1
 };
 inline constexpr double dpotential_over_r_3_0_lo[] = {
-    -0x1.6b01ec5417056p-58,
-};
-inline constexpr double dpotential_over_r_3_1[] = {
-    -0x1.a850f0b437a82p-4,  // -729/2240 * pi^-1
-    -0x1.3e3cb48729be1p-1,  // -2187/1120 * pi^-1
-    -0x1.16751df644865p+1,  // -2187/320 * pi^-1
-};
-inline constexpr double dpotential_over_r_3_1_lo[] = {
-    0x1.3fbe9b69900d2p-59, -0x1.881885b869fb1p-55, -0x1.ae2aea02b9776p-54,
-};
-// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = -729/2240 * pi^-1 (table::Term::split)
-inline constexpr double dpotential_over_r_3_1_m[] = {
-    0x1p+0,  // 1
-    0x1.8p+2,  // 6
-    0x1.5p+4,  // 21
+    -0x1.e8236417ffcc9p-59, -0x1.f6de741824493p-59, -0x1.abcaf6e67e9c6p-57, 0x1.1ef2a7b6d6107p-59,
+    0x1.5f1aa18e62671p-55, 0x1.de9a5f16b9c7cp-53, -0x1.6da59585c4bc1p-61, -0x1.04bd95d7364d5p-52,
+    -0x1.f3252dbe4c156p-51,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -3, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 24, .m = dpotential_over_r_3_1_m, .content = -0x1.a850f0b437a82p-4, .content_lo = 0x1.3fbe9b69900d2p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = dpotential_over_r_3_0, .n = 9, .centre = 0x1.2aaaaaaaaaaabp-1, .centre_lo = -0x1.5555555555555p-55, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -521,15 +536,40 @@ inline constexpr double dpotential_over_r_4_0[] = {
 inline constexpr double dpotential_over_r_4_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
+inline constexpr double dpotential_over_r_4_1[] = {
+    -0x1.a850f0b437a82p-4,  // -729/2240 * pi^-1
+    -0x1.3e3cb48729be1p-1,  // -2187/1120 * pi^-1
+    -0x1.16751df644865p+1,  // -2187/320 * pi^-1
+};
+inline constexpr double dpotential_over_r_4_1_lo[] = {
+    0x1.3fbe9b69900d2p-59, -0x1.881885b869fb1p-55, -0x1.ae2aea02b9776p-54,
+};
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = -729/2240 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -3, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .split = 24, .m = dpotential_over_r_4_1_m, .content = -0x1.a850f0b437a82p-4, .content_lo = 0x1.3fbe9b69900d2p-59},
+};
+inline constexpr double dpotential_over_r_5_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr double dpotential_over_r_5_0_lo[] = {
+    -0x1.6b01ec5417056p-58,
+};
+inline constexpr table::Term dpotential_over_r_5[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-3, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/6)
     {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dpotential_over_r_2, .nterms = 1},  // [1/3, 2/3)
-    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_over_r_3, .nterms = 2},  // [2/3, 1)
-    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_4, .nterms = 1},  // [1, inf)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_over_r_2, .nterms = 1},  // [1/3, 1/2), Taylor polynomial about 5/12
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_over_r_3, .nterms = 1},  // [1/2, 2/3), Taylor polynomial about 7/12
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_over_r_4, .nterms = 2},  // [2/3, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.a6c0327b8d739p+3,  // -371871/8960 * pi^-1
@@ -544,64 +584,104 @@ inline constexpr table::Term potential_hess_radial_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 4, .centre = 0x1.5555555555555p-3, .centre_lo = 0x1.5555555555555p-57, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
-    -0x1.7483758e69c03p-11,  // -1/448 * pi^-1
-    0x0p+0,  // 0
-    0x0p+0,  // 0
-    0x0p+0,  // 0
-    0x1.01d4bced81d1bp+2,  // 405/32 * pi^-1
-    -0x1.b127f5b7f8d0fp+5,  // -1701/10 * pi^-1
-    0x1.220f548b320bfp+7,  // 3645/8 * pi^-1
-    -0x1.2a58e93eb7223p+7,  // -6561/14 * pi^-1
+    -0x1.b6a7a9735b1dep-5,  // -6321947099/37580963840 * pi^-1
+    -0x1.007c7e4a0f1c3p-1,  // -26403651/16777216 * pi^-1
+    -0x1.2123a81680f34p+0,  // -14882535/4194304 * pi^-1
+    0x1.19a337ec164b2p+1,  // 1812051/262144 * pi^-1
+    0x1.0c563cd9dc1d8p+3,  // 3452949/131072 * pi^-1
+    -0x1.efc2bc3b8fc72p+2,  // -498393/20480 * pi^-1
+    -0x1.033db38f9b211p+5,  // -104247/1024 * pi^-1
+    0x1.bf855dde12b35p+3,  // 19683/448 * pi^-1
     0x1.b316fed0cb11ep+5,  // 10935/64 * pi^-1
 };
 inline constexpr double potential_hess_radial_1_0_lo[] = {
-    -0x1.7fdcd56c11e67p-69, 0x0p+0, 0x0p+0, 0x0p+0,
-    0x1.5edafa8f7bca4p-52, -0x1.b99816aee79d4p-50, -0x1.ea934c3d2979p-48, -0x1.2f96fd5ce35b6p-47,
+    0x1.176f18d984133p-61, 0x1.e97c45a43721dp-57, -0x1.3d7b4b70c838bp-55, -0x1.f6328ddbc93c3p-54,
+    -0x1.e558b8d5b6fe9p-52, -0x1.a8b588fb178b8p-52, 0x1.b9b41846ed551p-51, -0x1.c4ec1fa557b77p-54,
     0x1.20230da441ca8p-50,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_1_0, .n = 9, .c_lo = potential_hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.aaaaaaaaaaaabp-2, .edge_power = 0, .low = -5, .c = potential_hess_radial_1_0, .n = 9, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
-    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
+    -0x1.9fbe2bad620bdp-4,  // -5135773319/16106127360 * pi^-1
+    -0x1.40ca8f7e01c0dp-1,  // -33023441/16777216 * pi^-1
+    -0x1.2fad1f3607bb8p-2,  // -3907695/4194304 * pi^-1
+    0x1.07928dc55ef98p+2,  // 3391641/262144 * pi^-1
+    0x1.1fe72465822f8p+1,  // 926181/131072 * pi^-1
+    -0x1.42596471a8d83p+4,  // -1296243/20480 * pi^-1
+    -0x1.b581ca2fd1e31p+3,  // -43983/1024 * pi^-1
+    0x1.91f0ac02b6b8cp+5,  // 70713/448 * pi^-1
+    0x1.b316fed0cb11ep+5,  // 10935/64 * pi^-1
 };
 inline constexpr double potential_hess_radial_2_0_lo[] = {
+    0x1.22104b944a553p-58, -0x1.988091c8e6cd9p-55, 0x1.4526f043ad546p-56, 0x1.bdabe1768699cp-56,
+    -0x1.c25bb932201efp-55, 0x1.6bd41af0cfda8p-50, 0x1.9faf3da90d7cep-52, -0x1.b8838ddfbd1c6p-56,
+    0x1.20230da441ca8p-50,
+};
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_2_0, .n = 9, .centre = 0x1.d555555555555p-2, .centre_lo = 0x1.5555555555555p-56, .c_lo = potential_hess_radial_2_0_lo},
+};
+inline constexpr double potential_hess_radial_3_0[] = {
+    -0x1.697825735c71ep-3,  // -244197137/440401920 * pi^-1
+    -0x1.07fe99a079427p-1,  // -212317/131072 * pi^-1
+    0x1.0d998a83ae779p+0,  // 216825/65536 * pi^-1
+    0x1.0aa6311407b9dp+1,  // 53613/8192 * pi^-1
+    -0x1.25da7e63e3db5p+3,  // -236331/8192 * pi^-1
+    -0x1.fddc5e908ce0ap+2,  // -64071/2560 * pi^-1
+    0x1.b0ac3371c440bp+5,  // 43497/256 * pi^-1
+    0x1.a283d569c0e55p+6,  // 73629/224 * pi^-1
+    0x1.b316fed0cb11ep+5,  // 10935/64 * pi^-1
+};
+inline constexpr double potential_hess_radial_3_0_lo[] = {
+    0x1.4f6f6f7925397p-57, -0x1.d12973006b739p-56, -0x1.d6aadfb983bc7p-57, 0x1.1126f1edcb365p-56,
+    0x1.2108e865e1205p-53, 0x1.7069f5443ebddp-54, 0x1.effaac78c889p-49, 0x1.1940ff6cc2d61p-50,
+    0x1.20230da441ca8p-50,
+};
+inline constexpr table::Term potential_hess_radial_3[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_3_0, .n = 9, .centre = 0x1.2aaaaaaaaaaabp-1, .centre_lo = -0x1.5555555555555p-55, .c_lo = potential_hess_radial_3_0_lo},
+};
+inline constexpr double potential_hess_radial_4_0[] = {
+    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
+};
+inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.041713f11440cp-60,
 };
-inline constexpr double potential_hess_radial_2_1[] = {
+inline constexpr double potential_hess_radial_4_1[] = {
     0x1.3e3cb48729be1p-2,  // 2187/2240 * pi^-1
     0x1.8dcbe1a8f42dap+0,  // 2187/448 * pi^-1
     0x1.2a58e93eb7223p+2,  // 6561/448 * pi^-1
     0x1.5c126573d5a7fp+3,  // 2187/64 * pi^-1
 };
-inline constexpr double potential_hess_radial_2_1_lo[] = {
+inline constexpr double potential_hess_radial_4_1_lo[] = {
     0x1.881885b869fb1p-56, -0x1.15e158d97b863p-54, 0x1.2f96fd5ce35b6p-52, -0x1.f3252dbe4c156p-51,
 };
-// potential_hess_radial_2_1 = content * potential_hess_radial_2_1_m, content = 2187/2240 * pi^-1 (table::Term::split)
-inline constexpr double potential_hess_radial_2_1_m[] = {
+// potential_hess_radial_4_1 = content * potential_hess_radial_4_1_m, content = 2187/2240 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_4_1_m[] = {
     0x1p+0,  // 1
     0x1.4p+2,  // 5
     0x1.ep+3,  // 15
     0x1.18p+5,  // 35
 };
-inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -5, .c = potential_hess_radial_2_1, .n = 4, .c_lo = potential_hess_radial_2_1_lo, .split = 15, .m = potential_hess_radial_2_1_m, .content = 0x1.3e3cb48729be1p-2, .content_lo = 0x1.881885b869fb1p-56},
+inline constexpr table::Term potential_hess_radial_4[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -5, .c = potential_hess_radial_4_1, .n = 4, .c_lo = potential_hess_radial_4_1_lo, .split = 15, .m = potential_hess_radial_4_1_m, .content = 0x1.3e3cb48729be1p-2, .content_lo = 0x1.881885b869fb1p-56},
 };
-inline constexpr double potential_hess_radial_3_0[] = {
+inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
-inline constexpr double potential_hess_radial_3_0_lo[] = {
+inline constexpr double potential_hess_radial_5_0_lo[] = {
     0x1.041713f11440cp-60,
 };
-inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
+inline constexpr table::Term potential_hess_radial_5[] = {
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/3), Taylor polynomial about 1/6
-    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/3, 2/3)
-    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 2},  // [2/3, 1)
-    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.aaaaaaaaaaaabp-2, .terms = potential_hess_radial_1, .nterms = 1},  // [1/3, 5/12), Taylor polynomial about 3/8
+    {.lo = 0x1.aaaaaaaaaaaabp-2, .hi = 0x1p-1, .terms = potential_hess_radial_2, .nterms = 1},  // [5/12, 1/2), Taylor polynomial about 11/24
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_hess_radial_3, .nterms = 1},  // [1/2, 2/3), Taylor polynomial about 7/12
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_hess_radial_4, .nterms = 2},  // [2/3, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_5, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_quintic_spline_D3
 inline constexpr table::Kernel quintic_spline_D3 = {
@@ -622,9 +702,9 @@ inline constexpr table::Kernel quintic_spline_D3 = {
         {.pieces = detail_quintic_spline_D3::grad_over_r, .npieces = 4},  // grad_over_r
         {.pieces = detail_quintic_spline_D3::hess_radial, .npieces = 4},  // hess_radial
         {.pieces = detail_quintic_spline_D3::potential, .npieces = 4},  // potential
-        {.pieces = detail_quintic_spline_D3::dpotential, .npieces = 5},  // dpotential
-        {.pieces = detail_quintic_spline_D3::dpotential_over_r, .npieces = 5},  // dpotential_over_r
-        {.pieces = detail_quintic_spline_D3::potential_hess_radial, .npieces = 4},  // potential_hess_radial
+        {.pieces = detail_quintic_spline_D3::dpotential, .npieces = 6},  // dpotential
+        {.pieces = detail_quintic_spline_D3::dpotential_over_r, .npieces = 6},  // dpotential_over_r
+        {.pieces = detail_quintic_spline_D3::potential_hess_radial, .npieces = 6},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables
