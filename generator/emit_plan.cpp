@@ -425,10 +425,14 @@ SubPiece taylor_sub_piece(const ClosedForm& form, const Q& lo, const Q& hi) {
     return {{lo, hi, centred_terms(form, c), "Taylor polynomial about " + short_string(c)}, false};
 }
 
+// `keep`: the condition within which the whole piece keeps its own terms
+// (recentre_condition, or laurent_recentre_condition below); its halves,
+// quarters, ... take recentre_condition.
 void recentre(const EmittedPiece& piece, const Magnitude& own, const ClosedForm& form, const ClosedForm& derivative,
-              const Q& lo, const Q& hi, int depth, std::vector<SubPiece>& out, std::map<Q, double>& scales) {
+              const Q& lo, const Q& hi, int depth, std::vector<SubPiece>& out, std::map<Q, double>& scales,
+              double keep = recentre_condition) {
     const double plain = worst_condition(own, form, derivative, lo, hi, scales);
-    if (plain <= recentre_condition) {
+    if (plain <= (depth == 0 ? keep : recentre_condition)) {
         out.push_back(own_sub_piece(piece, lo, hi));
         return;
     }
@@ -441,6 +445,24 @@ void recentre(const EmittedPiece& piece, const Magnitude& own, const ClosedForm&
     const Q c = (lo + hi) / 2;
     recentre(piece, own, form, derivative, lo, c, depth + 1, out, scales);
     recentre(piece, own, form, derivative, c, hi, depth + 1, out, scales);
+}
+
+// A Laurent polynomial r^low P(r) (centred_terms keeps r^low in front) is
+// recentred only where its own terms cancel worse than this: until stop 91
+// only polynomials were, and the quintic spline's W'/r and Laplacian on
+// [1/3, 2/3) were 43 and 93.5 intrinsic ulps off in the fast form (3D), its
+// 2D potential's derivative 50 (accuracy_test's fast bounds found them; own
+// terms conditioned 100-315 there, the fast form's error ~0.3-0.5 ulp per
+// unit). Milder ones keep their terms, within the fast bound as they are and
+// one branch each: the Green's function joined to a potential's edge terms,
+// GADGET-4's g-factors of the cubic spline (conditioned 5.7-24.9), which
+// recentred at 16 took 4.9 against 1.35 ns a call (a loop over 4,096 random
+// u: the sub-pieces' branches).
+constexpr double laurent_recentre_condition = 32;
+
+// The condition within which a piece of `form` keeps its own terms whole.
+double keep_condition(const EmittedPiece& p, const ClosedForm& form) {
+    return is_polynomial_form(form) || vanishes_at(form, p.lo) ? recentre_condition : laurent_recentre_condition;
 }
 
 // The sub-pieces recentre chose (search_choices.hpp); nullopt where they do
@@ -480,7 +502,8 @@ std::vector<SubPiece> sub_pieces(const EmittedPiece& piece, const ClosedForm& fo
         if (auto sub = chosen_sub_pieces(piece, form, *known)) return std::move(*sub);
     std::vector<SubPiece> sub;
     std::map<Q, double> scales;
-    recentre(piece, Magnitude(piece.terms), form, form.derivative(), piece.lo, *piece.hi, 0, sub, scales);
+    recentre(piece, Magnitude(piece.terms), form, form.derivative(), piece.lo, *piece.hi, 0, sub, scales,
+             keep_condition(piece, form));
     if (searching_afresh()) {
         RecentreChoices choices;
         for (const SubPiece& s : sub) choices.push_back({*s.piece.hi, s.own});
@@ -501,32 +524,12 @@ bool may_recentre(const EmittedPiece& p, const Radial& f, Recentre which) {
     return which == Recentre::every_piece || (p.lo > 0 && p.hi && *p.hi < f.support());
 }
 
-// A Laurent polynomial r^low P(r) (centred_terms keeps r^low in front) is
-// recentred only where its own terms cancel worse than this: until stop 91
-// only polynomials were, and the quintic spline's W'/r and Laplacian on
-// [1/3, 2/3) were 43 and 93.5 intrinsic ulps off in the fast form (3D), its
-// 2D potential's derivative 50 (accuracy_test's fast bounds found them; own
-// terms conditioned 100-315 there, the fast form's error ~0.3-0.5 ulp per
-// unit). Milder ones keep their terms, within the fast bound as they are and
-// one branch each: the Green's function joined to a potential's edge terms,
-// GADGET-4's g-factors of the cubic spline (conditioned 5.7-24.9), which
-// recentred at 16 took 4.9 against 1.35 ns a call (a loop over 4,096 random
-// u: the sub-pieces' branches).
-constexpr double laurent_recentre_condition = 32;
-
-bool recentrable(const EmittedPiece& p, const ClosedForm& form) {
-    if (is_polynomial_form(form) || vanishes_at(form, p.lo)) return true;
-    if (!form.has_only_basis_one()) return false;
-    std::map<Q, double> scales;
-    return worst_condition(Magnitude(p.terms), form, form.derivative(), p.lo, *p.hi, scales) > laurent_recentre_condition;
-}
-
 std::vector<EmittedPiece> recentred(const Radial& f, std::vector<EmittedPiece> pieces, Recentre which) {
     std::vector<EmittedPiece> out;
     for (EmittedPiece& p : pieces) {
         const ClosedForm* form =
             p.hi && !p.series && !p.centred && may_recentre(p, f, which) ? &f.form_at((p.lo + *p.hi) / 2) : nullptr;
-        if (!form || form->is_zero() || !recentrable(p, *form)) {
+        if (!form || form->is_zero() || !form->has_only_basis_one()) {
             out.push_back(std::move(p));
             continue;
         }
